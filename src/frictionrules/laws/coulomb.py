@@ -1,0 +1,92 @@
+r"""Isotropic Coulomb friction, (1.4)–(1.8)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import check_scalar
+from .base import FrictionLaw, as_slip, safe_ratio
+
+__all__ = ["Coulomb"]
+
+
+@dataclass(frozen=True)
+class Coulomb(FrictionLaw):
+    r"""Isotropic Coulomb friction.
+
+    Limit condition (1.4): :math:`f = |T| - \mu N`.
+
+    * ``dilatant=False`` (default): the sliding rule (1.5), associated in the sliding plane at
+      fixed N, with no normal slip: potential :math:`g = |T|`, slip
+      :math:`v = \dot\lambda\,(T/|T|, 0)`. Dissipation (1.7) :math:`D = \mu N |v_t|`.
+    * ``dilatant=True``: the rule (1.6) associated in the full space, :math:`g = f`, with the
+      opening slip :math:`v_n = \mu |v_t|` (the paper's :math:`V_z = -\dot\lambda\mu` with z
+      pointing into the support; see ``docs/errata.md``). Its dissipation is zero.
+
+    Parameters
+    ----------
+    mu : float
+        Friction coefficient, ``mu >= 0``.
+    dilatant : bool
+        Use the associated (dilatant) rule (1.6).
+    """
+
+    mu: float
+    dilatant: bool = False
+
+    def __post_init__(self):
+        object.__setattr__(self, "mu", check_scalar("mu", self.mu, lo=0.0))
+        object.__setattr__(self, "dilatant", bool(self.dilatant))
+
+    @property
+    def associated(self) -> bool:
+        return self.dilatant
+
+    @property
+    def tangentially_associated(self) -> bool:
+        return True
+
+    def limit(self, T, N):
+        T, N = self._inputs(T, N)
+        return np.hypot(T[..., 0], T[..., 1]) - self.mu * N
+
+    def potential(self, T, N):
+        T, N = self._inputs(T, N)
+        norm = np.hypot(T[..., 0], T[..., 1])
+        return norm - self.mu * N if self.dilatant else norm + 0.0 * N
+
+    def limit_gradient(self, T, N):
+        T, N = self._inputs(T, N)
+        norm = np.hypot(T[..., 0], T[..., 1])
+        e1, e2 = safe_ratio(T[..., 0], norm), safe_ratio(T[..., 1], norm)
+        return np.stack(np.broadcast_arrays(e1, e2, -self.mu + 0.0 * N), axis=-1)
+
+    def potential_gradient(self, T, N):
+        grad = self.limit_gradient(T, N)
+        if not self.dilatant:
+            grad[..., 2] = 0.0
+        return grad
+
+    def symbolic(self):
+        import sympy
+
+        from .symbols import N, T1, T2
+        norm = sympy.sqrt(T1**2 + T2**2)
+        f = norm - sympy.Float(self.mu) * N
+        return f, (f if self.dilatant else norm)
+
+    def _force_at_angle(self, theta, N):
+        """(1.8): :math:`T = \\mu N\\, v_t/|v_t|`."""
+        theta, N = np.broadcast_arrays(theta, N)
+        return self.mu * N[..., None] * np.stack((np.cos(theta), np.sin(theta)), axis=-1)
+
+    def dissipation(self, v, N):
+        r"""(1.7): :math:`D = \mu N |v_t|` without dilatancy; with it ``-N vn`` is added."""
+        v = as_slip(v)
+        N = self._normal(N)
+        vt = np.hypot(v[..., 0], v[..., 1])
+        if v.shape[-1] == 3:
+            return self.mu * N * vt - N * v[..., 2]
+        return self.mu * N * vt * (0.0 if self.dilatant else 1.0)

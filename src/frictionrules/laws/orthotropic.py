@@ -1,0 +1,258 @@
+r"""Orthotropic friction: the elliptic law (1.9)–(1.15) and the two alternatives it is
+compared with, Huber's (1.16) and the transformed-variable law (1.17)–(1.18).
+
+All three share the principal frame: axis 1 at ``angle`` from x. Writing
+:math:`T' = R(-\text{angle})\,T` for the force in that frame, and :math:`\theta' = \theta -
+\text{angle}` for a slip angle, the three laws differ as follows.
+
+========================  ======================================  ==================================
+law                       limit f(T, N)                           slip direction (no normal slip)
+========================  ======================================  ==================================
+``EllipticOrthotropic``   :math:`\sqrt{(T'_1/\mu_x)^2+(T'_2/\mu_y)^2}-N` normal to f: :math:`(T'_1/\mu_x^2, T'_2/\mu_y^2)`
+``TransformedCoulomb``    the same ellipse                        :math:`(T'_1/\mu_x, T'_2/\mu_y)` (1.18)
+``Huber``                 :math:`|T| - N\mu(\beta')`, (1.16)      along T
+========================  ======================================  ==================================
+
+Only the first obeys normality in the sliding plane (``tangentially_associated``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import check_scalar
+from .base import FrictionLaw, rotate, safe_ratio
+
+__all__ = ["EllipticOrthotropic", "Huber", "TransformedCoulomb"]
+
+
+class _Orthotropic(FrictionLaw):
+    """Shared frame handling: parameters ``(m1, m2, angle)`` of the concrete dataclasses."""
+
+    _m_names = ("mu_x", "mu_y")
+
+    def _check(self):
+        for name in self._m_names:
+            object.__setattr__(self, name, check_scalar(name, getattr(self, name), lo=0.0, lo_open=True))
+        object.__setattr__(self, "angle", check_scalar("angle", self.angle, lo=-np.pi, hi=np.pi))
+
+    @property
+    def _m(self) -> tuple[float, float]:
+        return tuple(getattr(self, name) for name in self._m_names)
+
+    def _local(self, T, N):
+        T, N = self._inputs(T, N)
+        return rotate(T, -self.angle), N
+
+    def _global_gradient(self, ga, gb, gn):
+        g = rotate(np.stack(np.broadcast_arrays(ga, gb), axis=-1), self.angle)
+        return np.concatenate((g, np.broadcast_to(gn, g.shape[:-1])[..., None]), axis=-1)
+
+    def _local_symbols(self):
+        import sympy
+
+        from .symbols import T1, T2
+        c, s = sympy.cos(sympy.Float(self.angle)), sympy.sin(sympy.Float(self.angle))
+        return c * T1 + s * T2, -s * T1 + c * T2
+
+    def _force_at_angle(self, theta, N):
+        theta, N = np.broadcast_arrays(theta, N)
+        t = theta - self.angle
+        return rotate(N[..., None] * self._local_force(np.cos(t), np.sin(t)), self.angle)
+
+
+class _EllipseLimit(_Orthotropic):
+    r"""Limit ellipse :math:`f = \sqrt{(T'_1/\mu_x)^2+(T'_2/\mu_y)^2} - N`.
+
+    This is the degree-one form of (1.9), :math:`T_x^2/\mu_x^2 + T_y^2/\mu_y^2 - N^2 = 0`:
+    the two have the same zero set for N >= 0 and parallel gradients on it.
+    """
+
+    def _rho(self, T):
+        mx, my = self._m
+        return np.sqrt((T[..., 0] / mx) ** 2 + (T[..., 1] / my) ** 2)
+
+    def limit(self, T, N):
+        T, N = self._local(T, N)
+        return self._rho(T) - N
+
+    def limit_gradient(self, T, N):
+        T, N = self._local(T, N)
+        mx, my = self._m
+        rho = self._rho(T)
+        return self._global_gradient(safe_ratio(T[..., 0] / mx**2, rho),
+                                     safe_ratio(T[..., 1] / my**2, rho), -1.0 + 0.0 * N)
+
+    def _symbolic_limit(self):
+        import sympy
+
+        from .symbols import N
+        a, b = self._local_symbols()
+        mx, my = (sympy.Float(m) for m in self._m)
+        return sympy.sqrt((a / mx) ** 2 + (b / my) ** 2) - N
+
+
+@dataclass(frozen=True)
+class EllipticOrthotropic(_EllipseLimit):
+    r"""Orthotropic friction with the elliptic limit (1.9) and normality in the sliding plane.
+
+    Limit :math:`f = \sqrt{(T'_1/\mu_x)^2+(T'_2/\mu_y)^2} - N` (degree-one form of (1.9)),
+    potential :math:`g = \sqrt{(T'_1/\mu_x)^2+(T'_2/\mu_y)^2}` (no normal slip, (1.10)).
+    Dissipation (1.12) :math:`D = N\sqrt{(\mu_x v'_1)^2 + (\mu_y v'_2)^2}`, inverse relation
+    (1.13), force angle (1.14) :math:`\tan\theta'/\tan\beta' = \mu_x^2/\mu_y^2`, directional
+    coefficient (1.15).
+
+    Parameters
+    ----------
+    mu_x, mu_y : float
+        Friction coefficients along the principal axes (> 0).
+    angle : float
+        Angle of principal axis 1 from x, radians, in [-pi, pi].
+    """
+
+    mu_x: float
+    mu_y: float
+    angle: float = 0.0
+
+    def __post_init__(self):
+        self._check()
+
+    @property
+    def tangentially_associated(self) -> bool:
+        return True
+
+    def potential(self, T, N):
+        T, N = self._local(T, N)
+        return self._rho(T) + 0.0 * N
+
+    def potential_gradient(self, T, N):
+        grad = self.limit_gradient(T, N)
+        grad[..., 2] = 0.0
+        return grad
+
+    def symbolic(self):
+        from .symbols import N
+        f = self._symbolic_limit()
+        return f, f + N
+
+    def _local_force(self, c, s):
+        """(1.13) per unit N: :math:`T' = (\\mu_x^2 c, \\mu_y^2 s)/\\sqrt{(\\mu_x c)^2+(\\mu_y s)^2}`."""
+        mx, my = self._m
+        den = np.sqrt((mx * c) ** 2 + (my * s) ** 2)
+        return np.stack((mx**2 * c / den, my**2 * s / den), axis=-1)
+
+
+@dataclass(frozen=True)
+class TransformedCoulomb(_EllipseLimit):
+    r"""The transformed-variable law (1.17)–(1.18): Coulomb applied to :math:`T'_i/\mu_i`.
+
+    Limit: the ellipse of (1.9). Slip (1.18): :math:`v' \parallel (T'_1/\mu_x, T'_2/\mu_y)`,
+    i.e. the potential :math:`g = \sqrt{T_1'^2/\mu_x + T_2'^2/\mu_y}` — not normal to the
+    limit curve. Directional coefficient (1.17) :math:`\mu(\theta') = \sqrt{\mu_x^2\cos^2\theta'
+    + \mu_y^2\sin^2\theta'}`.
+    """
+
+    mu_x: float
+    mu_y: float
+    angle: float = 0.0
+
+    def __post_init__(self):
+        self._check()
+
+    def potential(self, T, N):
+        T, N = self._local(T, N)
+        mx, my = self._m
+        return np.sqrt(T[..., 0] ** 2 / mx + T[..., 1] ** 2 / my) + 0.0 * N
+
+    def potential_gradient(self, T, N):
+        T, N = self._local(T, N)
+        mx, my = self._m
+        g = np.sqrt(T[..., 0] ** 2 / mx + T[..., 1] ** 2 / my)
+        return self._global_gradient(safe_ratio(T[..., 0] / mx, g), safe_ratio(T[..., 1] / my, g),
+                                     0.0 * N)
+
+    def symbolic(self):
+        import sympy
+        a, b = self._local_symbols()
+        mx, my = (sympy.Float(m) for m in self._m)
+        return self._symbolic_limit(), sympy.sqrt(a**2 / mx + b**2 / my)
+
+    def _local_force(self, c, s):
+        """(1.18) per unit N: :math:`T' = (\\mu_x c, \\mu_y s)`."""
+        mx, my = self._m
+        return np.stack((mx * c, my * s), axis=-1)
+
+
+@dataclass(frozen=True)
+class Huber(_Orthotropic):
+    r"""Huber's orthotropic friction (1.16): force along the slip, of magnitude
+    :math:`\mu(\theta') N` with :math:`\mu(\theta') = \mu_1\cos^2\theta' + \mu_2\sin^2\theta'`.
+
+    Limit :math:`f = |T| - N(\mu_1 T_1'^2 + \mu_2 T_2'^2)/|T|^2` (the polar curve
+    :math:`|T| = N\mu(\beta')`, with :math:`\beta' = \theta'`); potential :math:`g = |T|`.
+    At ``T = 0`` the limit takes the value :math:`-N\min(\mu_1, \mu_2)` and the tangential
+    gradient the minimal-norm subgradient 0.
+
+    Parameters
+    ----------
+    mu_1, mu_2 : float
+        Friction coefficients along the principal axes (> 0).
+    angle : float
+        Angle of principal axis 1 from x, radians, in [-pi, pi].
+    """
+
+    mu_1: float
+    mu_2: float
+    angle: float = 0.0
+    _m_names = ("mu_1", "mu_2")
+
+    def __post_init__(self):
+        self._check()
+
+    def _mu_of_force(self, T):
+        m1, m2 = self._m
+        rho2 = T[..., 0] ** 2 + T[..., 1] ** 2
+        mu = safe_ratio(m1 * T[..., 0] ** 2 + m2 * T[..., 1] ** 2, rho2)
+        return np.where(rho2 > 0, mu, min(m1, m2)), rho2
+
+    def limit(self, T, N):
+        T, N = self._local(T, N)
+        mu, rho2 = self._mu_of_force(T)
+        return np.sqrt(rho2) - mu * N
+
+    def limit_gradient(self, T, N):
+        T, N = self._local(T, N)
+        m1, m2 = self._m
+        mu, rho2 = self._mu_of_force(T)
+        rho = np.sqrt(rho2)
+        a, b = T[..., 0], T[..., 1]
+        k = safe_ratio(2.0 * N * (m1 - m2) * a * b, rho2**2)
+        return self._global_gradient(safe_ratio(a, rho) - k * b, safe_ratio(b, rho) + k * a, -mu)
+
+    def potential(self, T, N):
+        T, N = self._inputs(T, N)
+        return np.hypot(T[..., 0], T[..., 1]) + 0.0 * N
+
+    def potential_gradient(self, T, N):
+        T, N = self._inputs(T, N)
+        rho = np.hypot(T[..., 0], T[..., 1])
+        zero = 0.0 * (rho + N)
+        return np.stack((safe_ratio(T[..., 0], rho) + zero, safe_ratio(T[..., 1], rho) + zero, zero),
+                        axis=-1)
+
+    def symbolic(self):
+        import sympy
+
+        from .symbols import N, T1, T2
+        a, b = self._local_symbols()
+        m1, m2 = (sympy.Float(m) for m in self._m)
+        rho = sympy.sqrt(T1**2 + T2**2)
+        return rho - N * (m1 * a**2 + m2 * b**2) / (a**2 + b**2), rho
+
+    def _local_force(self, c, s):
+        """(1.16) per unit N: :math:`T' = \\mu(\\theta')(c, s)`."""
+        m1, m2 = self._m
+        mu = m1 * c**2 + m2 * s**2
+        return np.stack((mu * c, mu * s), axis=-1)

@@ -1,0 +1,209 @@
+r"""A rigid block on a plane inclined at ``alpha``: the wedge asperity of §2, (2.1)–(2.8).
+
+Frame (Fig. 2): x, y horizontal, z up; the plane contains the y axis and its line of greatest
+slope :math:`t_1 = (\cos\alpha, 0, \sin\alpha)` points up-slope. For ``alpha < pi/2`` the plane
+rises towards +x, for ``alpha > pi/2`` towards -x (slope ``pi - alpha``). The block is loaded by
+:math:`F = (T_x, T_y, -Q)` (``Q > 0`` presses it down) and rests on the plane through the
+upward unit normal :math:`n = \sigma(-\sin\alpha, 0, \cos\alpha)`, :math:`\sigma =
+\operatorname{sign}\cos\alpha`.
+
+Equilibrium (2.1) gives the forces on the plane
+
+.. math:: T_1 = T_x\cos\alpha - Q\sin\alpha,\qquad T_2 = T_y,\qquad
+          N = \sigma(T_x\sin\alpha + Q\cos\alpha),
+
+and local Coulomb friction :math:`\sqrt{T_1^2 + T_2^2} \le \mu N` gives the global limit
+condition (2.2) (written here in its degree-one form, whose zero set is the physical nappe
+``N > 0`` of the quadric (2.2)).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import FrictionRulesError, check_scalar
+from .base import FrictionLaw, _Locked, safe_ratio
+
+__all__ = ["WedgeAsperity"]
+
+_LOCALS = ("non-associated", "associated")
+
+
+@dataclass(frozen=True)
+class WedgeAsperity(FrictionLaw):
+    r"""Block on an inclined plane with local Coulomb friction, as a law in external loads.
+
+    The protocol's normal argument is the vertical load ``Q`` (compression positive) and the
+    tangential force is the horizontal load ``T = (Tx, Ty)``; the generalized slip is the block
+    velocity ``(Vx, Vy, Vz)`` with ``Vz > 0`` upwards.
+
+    * limit (2.2): :math:`f = \sqrt{T_1^2 + T_2^2} - \mu N`;
+    * ``local="non-associated"`` (the paper's case): potential (2.6)
+      :math:`g = \sqrt{T_1^2 + T_2^2}`, slip (2.3)/(2.7)
+      :math:`V = \dot\lambda\,(e_1\cos\alpha, e_2, e_1\sin\alpha)`, :math:`e = (T_1, T_2)/|\cdot|`;
+      the horizontal slip is not normal to the limit curve ((2.4) against (2.5));
+    * ``local="associated"``: the dilatant local rule (1.6), g = f, which adds the separation
+      :math:`\dot\lambda\mu n`; the global rule is then associated.
+
+    Outside the domain ``N > 0`` the block leaves the plane: ``limit`` is positive there (the
+    load cannot be carried) and ``slip_direction`` raises :class:`FrictionRulesError`.
+
+    Parameters
+    ----------
+    alpha : float
+        Inclination of the plane, radians, in (0, pi).
+    mu : float
+        Local friction coefficient, ``mu >= 0``; :math:`\varrho = \arctan\mu`.
+    local : {"non-associated", "associated"}
+        Local sliding rule.
+    """
+
+    alpha: float
+    mu: float
+    local: str = "non-associated"
+    normal_name = "Q"
+
+    def __post_init__(self):
+        object.__setattr__(self, "alpha", check_scalar("alpha", self.alpha, lo=0.0, hi=np.pi,
+                                                       lo_open=True, hi_open=True))
+        object.__setattr__(self, "mu", check_scalar("mu", self.mu, lo=0.0))
+        if self.local not in _LOCALS:
+            raise FrictionRulesError(f"local = {self.local!r} violates local in {_LOCALS}")
+
+    # ---- geometry --------------------------------------------------------------------------
+    @property
+    def _cs(self) -> tuple[float, float, float]:
+        c, s = np.cos(self.alpha), np.sin(self.alpha)
+        return c, s, (1.0 if c >= 0 else -1.0)
+
+    @property
+    def associated(self) -> bool:
+        return self.local == "associated"
+
+    def plane_forces(self, T, Q) -> np.ndarray:
+        """``(T1, T2, N)`` on the plane for the loads ``(T, Q)``, (2.1); shape ``(..., 3)``."""
+        T, Q = self._inputs(T, Q)
+        c, s, sig = self._cs
+        tx, ty = np.broadcast_arrays(T[..., 0], T[..., 1], Q)[:2]
+        return np.stack((tx * c - Q * s, ty + 0.0 * Q, sig * (tx * s + Q * c)), axis=-1)
+
+    def normal_force(self, T, Q) -> np.ndarray:
+        """Normal force on the plane, :math:`N = \\sigma(T_x\\sin\\alpha + Q\\cos\\alpha)` (2.1)."""
+        return self.plane_forces(T, Q)[..., 2]
+
+    def conic(self) -> str:
+        r"""Shape of the limit curve at fixed Q > 0: ``"ellipse"`` when
+        :math:`\alpha' + \varrho < \pi/2`, ``"parabola"`` when equal, ``"hyperbola"`` when greater,
+        with :math:`\alpha' = \min(\alpha, \pi - \alpha)` (sign of the :math:`T_x^2` coefficient
+        :math:`\cos^2\alpha - \mu^2\sin^2\alpha` of (2.2))."""
+        c, s, _ = self._cs
+        a = c**2 - self.mu**2 * s**2
+        if abs(a) <= 1e-12 * (c**2 + self.mu**2 * s**2):
+            return "parabola"
+        return "ellipse" if a > 0 else "hyperbola"
+
+    def centre(self, Q) -> np.ndarray:
+        """Load on the cone axis (no in-plane force): ``(Q tan(alpha), 0)``, the centre of the
+        potential ellipse (2.6); for a vertical plane a point inside the limit curve."""
+        Q = np.asarray(Q, dtype=float)
+        c, s, _ = self._cs
+        tx = Q * s / c if abs(c) > 1e-12 else 2.0 * Q / max(self.mu, 1e-300)
+        return np.stack(np.broadcast_arrays(tx, 0.0 * Q), axis=-1)
+
+    # ---- protocol --------------------------------------------------------------------------
+    def limit(self, T, Q):
+        t1, t2, n = np.moveaxis(self.plane_forces(T, Q), -1, 0)
+        return np.hypot(t1, t2) - self.mu * n
+
+    def potential(self, T, Q):
+        t1, t2, n = np.moveaxis(self.plane_forces(T, Q), -1, 0)
+        return np.hypot(t1, t2) - (self.mu * n if self.associated else 0.0)
+
+    def _gradient(self, T, Q, friction: bool):
+        t1, t2, _ = np.moveaxis(self.plane_forces(T, Q), -1, 0)
+        c, s, sig = self._cs
+        norm = np.hypot(t1, t2)
+        e1, e2 = safe_ratio(t1, norm), safe_ratio(t2, norm)
+        m = self.mu * sig if friction else 0.0
+        return np.stack((c * e1 - m * s, e2, -s * e1 - m * c), axis=-1)
+
+    def limit_gradient(self, T, Q):
+        return self._gradient(T, Q, True)
+
+    def potential_gradient(self, T, Q):
+        return self._gradient(T, Q, self.associated)
+
+    def symbolic(self):
+        import sympy
+
+        from .symbols import N, T1, T2
+        c, s, sig = self._cs
+        c, s, mu = sympy.Float(c), sympy.Float(s), sympy.Float(self.mu)
+        t = sympy.sqrt((T1 * c - N * s) ** 2 + T2**2)
+        f = t - mu * sig * (T1 * s + N * c)
+        return f, (f if self.associated else t)
+
+    def slip_direction(self, T, Q):
+        """Unit block velocity ``(Vx, Vy, Vz)`` (2.3), (2.7); ``Vz > 0`` upwards.
+
+        Raises :class:`FrictionRulesError` where the normal force on the plane is negative.
+        """
+        n = self.normal_force(T, Q)
+        if np.any(n < 0):
+            bad = np.argwhere(np.atleast_1d(n) < 0)[0]
+            raise FrictionRulesError(
+                f"the load leaves the plane: normal force N = {np.atleast_1d(n)[tuple(bad)]!r} at "
+                f"index {tuple(int(i) for i in bad)} violates N >= 0 (N = sigma*(Tx sin(alpha) + "
+                f"Q cos(alpha)), (2.1))")
+        return super().slip_direction(T, Q)
+
+    def dilatancy_angle(self, T, Q) -> np.ndarray:
+        r"""Dilatancy angle :math:`\nu`, :math:`\sin\nu = V_z/|V|` (2.8)."""
+        return np.arcsin(np.clip(self.slip_direction(T, Q)[..., 2], -1.0, 1.0))
+
+    # ---- inverse ---------------------------------------------------------------------------
+    def _plane_angle(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """In-plane force angle phi that slides horizontally at ``theta``; mask of solvability."""
+        c, s, sig = self._cs
+        if not self.associated:
+            # in-plane velocity (V1, V2) with V1 cos(alpha) = cos(theta), V2 = sin(theta)
+            return np.arctan2(abs(c) * np.sin(theta), sig * np.cos(theta)), np.ones(theta.shape, bool)
+        # horizontal slip (c cos(phi) - mu sig s, sin(phi)) parallel to (cos(theta), sin(theta))
+        A, B, C = c * np.sin(theta), np.cos(theta), self.mu * sig * s * np.sin(theta)
+        R, delta = np.hypot(A, B), np.arctan2(B, A)
+        ok = np.abs(C) <= R
+        acos = np.arccos(np.clip(C / np.where(R > 0, R, 1.0), -1.0, 1.0))
+        phis = np.stack((-delta + acos, -delta - acos))
+        along = (c * np.cos(phis) - self.mu * sig * s) * np.cos(theta) + np.sin(phis) * np.sin(theta)
+        phi = np.where(along[0] >= along[1], phis[0], phis[1])
+        return phi, ok & (np.max(along, axis=0) > 0)
+
+    def _force_at_angle(self, theta, Q):
+        """Closed-form inverse: the in-plane force :math:`\\mu N (\\cos\\varphi, \\sin\\varphi)`
+        that slides at ``theta``, mapped back through (2.1):
+
+        .. math:: N = \\frac{Q}{|\\cos\\alpha| - \\mu\\cos\\varphi\\sin\\alpha},\\quad
+                  T_x = N(\\sigma\\sin\\alpha + \\mu\\cos\\varphi\\cos\\alpha),\\quad
+                  T_y = \\mu N\\sin\\varphi .
+
+        The direction locks (no finite force, ``inf``) where the denominator is not positive.
+        """
+        c, s, sig = self._cs
+        if abs(c) < 1e-9:
+            return super()._force_at_angle(theta, Q)
+        theta, Q = np.broadcast_arrays(np.asarray(theta, dtype=float), Q)
+        phi, ok = self._plane_angle(theta)
+        e1, e2 = np.cos(phi), np.sin(phi)
+        den = abs(c) - self.mu * e1 * s
+        ok = ok & (den > 0)
+        n = Q / np.where(ok, den, 1.0)
+        T = np.stack((n * (sig * s + self.mu * e1 * c), self.mu * n * e2), axis=-1)
+        if not ok.all():
+            T[~ok] = np.inf
+            first = tuple(np.argwhere(~ok)[0])
+            raise _Locked(f"the wedge (alpha = {self.alpha!r}, mu = {self.mu!r}) locks for slip at "
+                          f"theta = {float(theta[first])!r} rad: no finite horizontal force slides "
+                          "it that way", T)
+        return T
