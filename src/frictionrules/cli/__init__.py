@@ -18,8 +18,15 @@ from ..errors import FrictionRulesError
 SUBCOMMANDS = ("paper", "law")
 
 
+class _Parser(argparse.ArgumentParser):
+    """Argument parser whose usage errors are one line on stderr with exit code 2."""
+
+    def error(self, message):
+        self.exit(2, f"{self.prog}: error: {message}\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="frictionrules",
         description="Contact friction as plasticity: laws, sliding rules, asperity mechanisms, "
                     "contact integration and multi-contact solvers.")

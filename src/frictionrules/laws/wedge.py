@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import FrictionRulesError, check_scalar
+from ..errors import FrictionRulesError, check_finite, check_scalar
 from .base import FrictionLaw, _Locked, safe_ratio
 
 __all__ = ["WedgeAsperity"]
@@ -112,6 +112,36 @@ class WedgeAsperity(FrictionLaw):
         tx = Q * s / c if abs(c) > 1e-12 else 2.0 * Q / max(self.mu, 1e-300)
         return np.stack(np.broadcast_arrays(tx, 0.0 * Q), axis=-1)
 
+    def limit_point(self, phi, Q=1.0) -> np.ndarray:
+        r"""Load ``(Tx, Ty)`` on the limit surface whose in-plane force is
+        :math:`(T_1, T_2) = \mu N (\cos\varphi, \sin\varphi)`, from (2.1):
+
+        .. math:: N = \frac{Q}{|\cos\alpha| - \mu\cos\varphi\sin\alpha},\quad
+                  T_x = N(\sigma\sin\alpha + \mu\cos\varphi\cos\alpha),\quad
+                  T_y = \mu N\sin\varphi .
+
+        ``inf`` where the denominator is not positive (no such point: the block would need a
+        tensile normal force).
+        """
+        phi, Q = np.broadcast_arrays(check_finite("phi", phi), self._normal(Q))
+        c, s, sig = self._cs
+        den = abs(c) - self.mu * np.cos(phi) * s
+        ok = den > 0
+        n = Q / np.where(ok, den, 1.0)
+        T = np.stack((n * (sig * s + self.mu * np.cos(phi) * c), self.mu * n * np.sin(phi)), axis=-1)
+        T[~ok] = np.inf
+        return T
+
+    def limit_curve(self, Q=1.0, num: int = 721, max_load: float = 10.0) -> np.ndarray:
+        """Points ``(Tx, Ty)`` of the limit curve at fixed ``Q``, ordered by the in-plane force
+        angle in [0, 2 pi] (see :meth:`limit_point`). Unbounded branches (parabola, hyperbola),
+        which open around the up-slope angle 0, are cut where ``|T| > max_load * Q``, so the
+        points form one arc. Returns an array of shape ``(m, 2)``, ``m <= num``.
+        """
+        Q = float(self._normal(Q))
+        T = self.limit_point(np.linspace(0.0, 2.0 * np.pi, num), Q)
+        return T[np.hypot(T[:, 0], T[:, 1]) <= max_load * max(Q, 1e-300)]
+
     # ---- protocol --------------------------------------------------------------------------
     def limit(self, T, Q):
         t1, t2, n = np.moveaxis(self.plane_forces(T, Q), -1, 0)
@@ -181,25 +211,15 @@ class WedgeAsperity(FrictionLaw):
         return phi, ok & (np.max(along, axis=0) > 0)
 
     def _force_at_angle(self, theta, Q):
-        """Closed-form inverse: the in-plane force :math:`\\mu N (\\cos\\varphi, \\sin\\varphi)`
-        that slides at ``theta``, mapped back through (2.1):
-
-        .. math:: N = \\frac{Q}{|\\cos\\alpha| - \\mu\\cos\\varphi\\sin\\alpha},\\quad
-                  T_x = N(\\sigma\\sin\\alpha + \\mu\\cos\\varphi\\cos\\alpha),\\quad
-                  T_y = \\mu N\\sin\\varphi .
-
-        The direction locks (no finite force, ``inf``) where the denominator is not positive.
-        """
-        c, s, sig = self._cs
-        if abs(c) < 1e-9:
+        """Closed-form inverse: the in-plane angle that slides at ``theta``, then
+        :meth:`limit_point`. The direction locks (no finite force, ``inf``) where that point does
+        not exist."""
+        if abs(self._cs[0]) < 1e-9:
             return super()._force_at_angle(theta, Q)
         theta, Q = np.broadcast_arrays(np.asarray(theta, dtype=float), Q)
         phi, ok = self._plane_angle(theta)
-        e1, e2 = np.cos(phi), np.sin(phi)
-        den = abs(c) - self.mu * e1 * s
-        ok = ok & (den > 0)
-        n = Q / np.where(ok, den, 1.0)
-        T = np.stack((n * (sig * s + self.mu * e1 * c), self.mu * n * e2), axis=-1)
+        T = self.limit_point(phi, Q)
+        ok = ok & np.isfinite(T[..., 0])
         if not ok.all():
             T[~ok] = np.inf
             first = tuple(np.argwhere(~ok)[0])
