@@ -23,7 +23,7 @@ def _describe(name: str, value, bad: np.ndarray | None = None) -> str:
         return f"{name} (shape {arr.shape})"
     idx = np.argwhere(bad)
     first = tuple(int(i) for i in idx[0])
-    return (f"{name}[{', '.join(map(str, first))}] = {arr[first]!r} "
+    return (f"{name}[{', '.join(map(str, first))}] = {arr[first].item()!r} "
             f"({int(bad.sum())} of {arr.size} entries)")
 
 

@@ -32,10 +32,10 @@ def key_numbers() -> list[tuple[str, str, str]]:
         mu_up = float(w.friction_coefficient(0.0))
         rows.append((f"{tag}: Tx/Q pushing up-slope", f"{mu_up:.4f}" if np.isfinite(mu_up) else "locked",
                      "tan(alpha+rho)"))
-        T = w.limit_point(0.9, 1.0)
+        T = w.limit_point(2.0, 1.0)
         cmp = compare_rules(w, T, 1.0)
-        rows.append((f"{tag}: sliding-plane angle, associated vs actual slip at phi=0.9",
+        rows.append((f"{tag}: sliding-plane angle, associated vs actual slip at phi=2.0",
                      f"{np.rad2deg(float(cmp.tangential_angle)):.2f} deg", "(2.4) vs (2.5)"))
-        rows.append((f"{tag}: dilatancy angle at phi=0.9",
+        rows.append((f"{tag}: dilatancy angle at phi=2.0",
                      f"{np.rad2deg(float(w.dilatancy_angle(T, 1.0))):.2f} deg", "(2.8)"))
     return rows

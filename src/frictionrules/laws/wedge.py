@@ -121,12 +121,12 @@ class WedgeAsperity(FrictionLaw):
                   T_y = \mu N\sin\varphi .
 
         ``inf`` where the denominator is not positive (no such point: the block would need a
-        tensile normal force).
+        tensile normal force; at the asymptotic direction of a parabola or hyperbola it vanishes).
         """
         phi, Q = np.broadcast_arrays(check_finite("phi", phi), self._normal(Q))
         c, s, sig = self._cs
         den = abs(c) - self.mu * np.cos(phi) * s
-        ok = den > 0
+        ok = den > 1e-12 * (abs(c) + self.mu * s)  # round-off at the parabola's vertex direction
         n = Q / np.where(ok, den, 1.0)
         T = np.stack((n * (sig * s + self.mu * np.cos(phi) * c), self.mu * n * np.sin(phi)), axis=-1)
         T[~ok] = np.inf
