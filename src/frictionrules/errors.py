@@ -33,6 +33,8 @@ def check_finite(name: str, value) -> np.ndarray:
         arr = np.asarray(value, dtype=float)
     except (TypeError, ValueError) as exc:
         raise FrictionRulesError(f"{name} = {value!r} is not a real number or array") from exc
+    if np.isfinite(np.sum(arr)):  # one fast pass: a finite sum has no NaN or inf term
+        return arr
     bad = ~np.isfinite(arr)
     if bad.any():
         raise FrictionRulesError(f"{_describe(name, arr, bad)} violates: must be finite")
@@ -55,10 +57,9 @@ def check_scalar(name: str, value, *, lo=None, hi=None, lo_open=False, hi_open=F
 def check_nonnegative(name: str, value) -> np.ndarray:
     """Return ``value`` as a finite float array with every entry ``>= 0``."""
     arr = check_finite(name, value)
-    bad = arr < 0
-    if bad.any():
+    if arr.size and arr.min() < 0:
         raise FrictionRulesError(
-            f"{_describe(name, arr, bad)} violates {name} >= 0 (compression positive)")
+            f"{_describe(name, arr, arr < 0)} violates {name} >= 0 (compression positive)")
     return arr
 
 

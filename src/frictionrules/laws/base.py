@@ -40,8 +40,8 @@ def rotate(v: np.ndarray, angle: float) -> np.ndarray:
 
 def safe_ratio(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """``a / b`` where ``b > 0`` and 0 where ``b == 0``: the minimal-norm subgradient at a kink."""
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return np.where(b > 0, a / np.where(b > 0, b, 1.0), 0.0)
+    a, b = np.broadcast_arrays(a, b)
+    return np.divide(a, b, out=np.zeros(a.shape), where=b > 0)
 
 
 def as_force(T) -> np.ndarray:
@@ -63,8 +63,9 @@ def unit3(grad: np.ndarray) -> np.ndarray:
     subgradient of ``|T|`` at ``T = 0``).
     """
     v = np.stack((grad[..., 0], grad[..., 1], 0.0 - grad[..., 2]), axis=-1)
-    norm = np.sqrt(v[..., 0] ** 2 + v[..., 1] ** 2 + v[..., 2] ** 2)[..., None]
-    return safe_ratio(v, norm)
+    norm = np.sqrt(v[..., 0] ** 2 + v[..., 1] ** 2 + v[..., 2] ** 2)
+    v *= safe_ratio(1.0, norm)[..., None]
+    return v
 
 
 class FrictionLaw(abc.ABC):

@@ -132,6 +132,24 @@ class EllipticOrthotropic(_EllipseLimit):
         grad[..., 2] = 0.0
         return grad
 
+    def slip_direction(self, T, N):
+        """(1.10) normalized: the factor 1/rho of the gradient cancels, so the slip is the unit
+        vector along :math:`R(\text{angle})(T'_1/\mu_x^2, T'_2/\mu_y^2)` with no normal part."""
+        T, N = self._local(T, N)
+        mx, my = self._m
+        shape = np.broadcast_shapes(T.shape[:-1], N.shape)
+        ga, gb = T[..., 0] * (1.0 / mx**2), T[..., 1] * (1.0 / my**2)
+        inv = safe_ratio(1.0, np.sqrt(ga * ga + gb * gb))
+        ga *= inv
+        gb *= inv
+        v = np.zeros(shape + (3,))
+        c, s = np.cos(self.angle), np.sin(self.angle)
+        if self.angle == 0.0:
+            v[..., 0], v[..., 1] = ga, gb
+        else:
+            v[..., 0], v[..., 1] = c * ga - s * gb, s * ga + c * gb
+        return v
+
     def symbolic(self):
         from .symbols import N
         f = self._symbolic_limit()
