@@ -133,8 +133,8 @@ class EllipticOrthotropic(_EllipseLimit):
         return grad
 
     def slip_direction(self, T, N):
-        """(1.10) normalized: the factor 1/rho of the gradient cancels, so the slip is the unit
-        vector along :math:`R(\text{angle})(T'_1/\mu_x^2, T'_2/\mu_y^2)` with no normal part."""
+        r"""(1.10) normalized: the factor 1/rho of the gradient cancels, so the slip is the unit
+        vector along :math:`R(	ext{angle})(T'_1/\mu_x^2, T'_2/\mu_y^2)` with no normal part."""
         T, N = self._local(T, N)
         mx, my = self._m
         shape = np.broadcast_shapes(T.shape[:-1], N.shape)
