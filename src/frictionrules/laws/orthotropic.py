@@ -33,7 +33,7 @@ class _Orthotropic(FrictionLaw):
 
     _m_names = ("mu_x", "mu_y")
 
-    def _check(self):
+    def __post_init__(self):
         for name in self._m_names:
             object.__setattr__(self, name, check_scalar(name, getattr(self, name), lo=0.0, lo_open=True))
         object.__setattr__(self, "angle", check_scalar("angle", self.angle, lo=-np.pi, hi=np.pi))
@@ -116,9 +116,6 @@ class EllipticOrthotropic(_EllipseLimit):
     mu_y: float
     angle: float = 0.0
 
-    def __post_init__(self):
-        self._check()
-
     @property
     def tangentially_associated(self) -> bool:
         return True
@@ -176,9 +173,6 @@ class TransformedCoulomb(_EllipseLimit):
     mu_y: float
     angle: float = 0.0
 
-    def __post_init__(self):
-        self._check()
-
     def potential(self, T, N):
         T, N = self._local(T, N)
         mx, my = self._m
@@ -225,9 +219,6 @@ class Huber(_Orthotropic):
     mu_2: float
     angle: float = 0.0
     _m_names = ("mu_1", "mu_2")
-
-    def __post_init__(self):
-        self._check()
 
     def _mu_of_force(self, T):
         m1, m2 = self._m
