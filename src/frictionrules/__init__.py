@@ -18,11 +18,34 @@ from .laws import (
     WedgeAsperity,
     compare_rules,
 )
+# asperity mechanisms, real surfaces and calibration (issue 3)
+from .asperities import FacetSet, TwoFlankAsperity, fit, from_heightmap, from_profile
+# multi-contact problems and FCLIB files (issue 6); frictionrules.io is the FCLIB module
+from .io import read_fclib, write_fclib
+from .multicontact import FrictionContactProblem, Solution, solve
+# elastic-plastic contact with hardening and softening (issue 4)
+from .contact import ContactModel, ContactState, DriveResult, EllipsoidCap, UpdateResult, drive
+# configuration softening: grains sliding over layers (issue 5)
+from .configuration import (
+    CylinderOnLayer,
+    ForceControlResult,
+    GrainState,
+    LimitPoint,
+    PathResult,
+    PeakForcePolar,
+    SphereOnLayer,
+)
 
 __version__ = "0.1.0"
 
 __all__ = [
     "FrictionRulesError",
+    # asperity mechanisms (issue 3)
+    "FacetSet",
+    "TwoFlankAsperity",
+    "from_profile",
+    "from_heightmap",
+    "fit",
     # laws (issue: core)
     "FrictionLaw",
     "Coulomb",
@@ -36,6 +59,27 @@ __all__ = [
     "T1",
     "T2",
     "N",
+    # multi-contact (issue 6)
+    "FrictionContactProblem",
+    "solve",
+    "Solution",
+    "read_fclib",
+    "write_fclib",
+    # elastic-plastic contact (issue 4)
+    "ContactModel",
+    "EllipsoidCap",
+    "drive",
+    "ContactState",
+    "UpdateResult",
+    "DriveResult",
+    # configuration softening (issue 5)
+    "CylinderOnLayer",
+    "SphereOnLayer",
+    "GrainState",
+    "PathResult",
+    "LimitPoint",
+    "ForceControlResult",
+    "PeakForcePolar",
 ]
 
 _SYMBOLS = ("T1", "T2", "N")

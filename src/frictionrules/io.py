@@ -81,7 +81,7 @@ class GlobalProblem:
         W = sp.csr_matrix(H.T @ MinvH)
         W.eliminate_zeros()
         q = H.T @ lu.solve(np.asarray(self.f, dtype=float)) + self.w
-        return FrictionContactProblem(W, q, self.mu)
+        return FrictionContactProblem(W, q, self.mu, title=self.title)
 
 
 # ---- reading ---------------------------------------------------------------------------------
@@ -205,9 +205,7 @@ def read_fclib(path):
             return FrictionContactProblem(W, q, mu, title=_text(h5, f"{g}/info/title"))
         if "fclib_global" not in h5:
             raise FrictionRulesError(f"{path} has neither group 'fclib_local' nor 'fclib_global'")
-    glob = read_fclib_global(path)
-    local = glob.condense()
-    return FrictionContactProblem(local.W, local.q, local.mu, title=glob.title)
+    return read_fclib_global(path).condense()
 
 
 # ---- writing ---------------------------------------------------------------------------------

@@ -21,11 +21,22 @@ FIGURES: tuple[tuple[str, str], ...] = (
     ("fig1d_directional_friction", "frictionrules.plot.laws:directional_friction"),
     ("fig3a_wedge_elliptic", "frictionrules.plot.laws:wedge_elliptic"),
     ("fig3b_wedge_parabolic", "frictionrules.plot.laws:wedge_parabolic"),
+    # configuration softening (issue 5)
+    ("fig8_cylinder_limit_evolution", "frictionrules.plot.configuration:cylinder_limit_evolution"),
+    ("fig9_sphere_limit_evolution", "frictionrules.plot.configuration:sphere_limit_evolution"),
+    ("fig8x_softening_curve", "frictionrules.plot.configuration:softening_curve"),
+    ("fig9x_pocket_peak_force", "frictionrules.plot.configuration:pocket_peak_force"),
+    # elastic-plastic contact (issue 4)
+    ("fig10a_cap_surface", "frictionrules.plot.contact:cap_surface"),
+    ("fig10b_cap_hardening", "frictionrules.plot.contact:cap_hardening"),
+    ("fig10c_cap_shear_curves", "frictionrules.plot.contact:cap_shear_curves"),
 )
 
 #: "module:function" of every key-number table.
 KEY_NUMBERS: tuple[str, ...] = (
     "frictionrules.laws.summary:key_numbers",
+    "frictionrules.configuration.summary:key_numbers",
+    "frictionrules.contact.summary:key_numbers",  # issue 4
 )
 
 

@@ -10,6 +10,16 @@ from .laws import (
     wedge_limit_curve,
     wedge_parabolic,
 )
+# configuration softening (issue 5)
+from .configuration import (
+    cylinder_limit_evolution,
+    limit_evolution,
+    pocket_peak_force,
+    softening_curve,
+    sphere_limit_evolution,
+)
+# elastic-plastic contact, Fig. 10 (issue 4)
+from .contact import cap_hardening, cap_shear_curves, cap_surface
 
 __all__ = [
     # laws (core)
@@ -20,4 +30,14 @@ __all__ = [
     "wedge_limit_curve",
     "wedge_elliptic",
     "wedge_parabolic",
+    # configuration softening (issue 5)
+    "limit_evolution",
+    "cylinder_limit_evolution",
+    "sphere_limit_evolution",
+    "softening_curve",
+    "pocket_peak_force",
+    # elastic-plastic contact, Fig. 10 (issue 4)
+    "cap_surface",
+    "cap_hardening",
+    "cap_shear_curves",
 ]

@@ -1,0 +1,249 @@
+r"""The ellipsoidal cap (4.9) of §4 and its hardening functions A(κ, β) and B(β).
+
+Yield surface (4.9), a rotational ellipsoid through the origin of the ``(T1, T2, N)`` space:
+
+.. math:: f(T, N, \kappa, \beta) = (N - A)^2 + \frac{T_1^2 + T_2^2}{m^2} - A^2
+
+with semi-axes ``A`` along N and ``m A`` along T (``m = c/a = tan ϱ``). Its top
+``N = A, |T| = m A`` lies on the line ``|T| = m N``: there the associated normal slip vanishes
+(``∂f/∂N = 0``), so this line is the *critical-state* line on which the surface stops moving.
+
+Default hardening (our choice; the paper only sketches A in Fig. 10b):
+
+* :class:`AreaHardening`, :math:`A(\kappa, \beta) = p\,\beta\,[1 + h(1 - e^{-\kappa/\kappa_h})]`.
+  A is half the normal force the contact layer carries at yield in pure compression
+  (the ellipsoid spans ``0 <= N <= 2A``). Following Bowden–Tabor, that force is the asperity
+  hardness times the real contact area ``β A_total``, hence ``A ∝ β``: ``p`` is
+  hardness × total area / 2. Tangential slip grows the junctions (Tabor's junction growth)
+  and work-hardens the asperity tips, a gain that saturates after a slip of a few ``κ_h``:
+  the factor ``1 + h(1 - e^{-κ/κ_h})``.
+* :class:`AreaGrowth`, :math:`B(\beta) = b\,\beta(1 - \beta)` in (4.5),
+  :math:`\dot\beta = B(\beta)\,\dot\delta^p_{closure}`. Plastic closure (compaction)
+  flattens asperities and grows the real contact area, plastic opening (dilatancy) lets
+  asperities ride over each other and shrinks it; the logistic form keeps ``0 < β < 1`` and
+  makes ``ln(β/(1-β))`` linear in the plastic closure, the contact analogue of the
+  Cam-clay/Calladine law in which the size of the yield locus is exponential in the plastic
+  volumetric strain.
+
+With these, a contact sheared at fixed N below ``A0 = A(0, β0)`` dilates, loses area and
+softens after a peak; above ``A0`` it compacts and hardens. Both end on the critical-state
+line ``|T| = m N`` (Fig. 10c), where ``A(κ, β) = N``.
+
+Sign convention: in frictionrules the normal plastic displacement is positive on *opening*
+(``docs/conventions.md``); the sliding rule gives it as ``-λ̇ ∂g/∂N``, so the paper's
+``β̇ = B(β) δ̇ₙᵖ`` (closure positive) reads ``β̇ = B(β) λ̇ ∂g/∂N`` here.
+"""
+
+from __future__ import annotations
+
+import functools
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import check_finite, check_scalar
+
+__all__ = ["AreaGrowth", "AreaHardening", "EllipsoidCap"]
+
+
+@dataclass(frozen=True)
+class AreaHardening:
+    r"""Default :math:`A(\kappa, \beta) = p\,\beta\,[1 + h(1 - e^{-\kappa/\kappa_h})]`.
+
+    Parameters
+    ----------
+    p : float
+        Force scale, ``p > 0``: ``A`` at full contact (``β = 1``) and no slip.
+    h : float
+        Relative slip hardening at saturation, ``h > -1`` (``h < 0`` is slip softening).
+    kappa_h : float
+        Slip length over which the slip hardening saturates, ``> 0``.
+    """
+
+    p: float = 2.0
+    h: float = 0.25
+    kappa_h: float = 0.05
+
+    def __post_init__(self):
+        object.__setattr__(self, "p", check_scalar("p", self.p, lo=0.0, lo_open=True))
+        object.__setattr__(self, "h", check_scalar("h", self.h, lo=-1.0, lo_open=True))
+        object.__setattr__(self, "kappa_h", check_scalar("kappa_h", self.kappa_h, lo=0.0, lo_open=True))
+
+    def __call__(self, kappa, beta):
+        kappa, beta = np.asarray(kappa, dtype=float), np.asarray(beta, dtype=float)
+        return self.p * beta * (1.0 + self.h * (1.0 - np.exp(-kappa / self.kappa_h)))
+
+    def symbolic(self, kappa, beta):
+        import sympy
+        p, h, kh = (sympy.Float(x) for x in (self.p, self.h, self.kappa_h))
+        return p * beta * (1 + h * (1 - sympy.exp(-kappa / kh)))
+
+
+@dataclass(frozen=True)
+class AreaGrowth:
+    r"""Default :math:`B(\beta) = b\,\beta(1 - \beta)` of (4.5).
+
+    Parameters
+    ----------
+    b : float
+        Rate of area growth per unit plastic closure (1/length), ``b > 0``.
+    """
+
+    b: float = 20.0
+
+    def __post_init__(self):
+        object.__setattr__(self, "b", check_scalar("b", self.b, lo=0.0, lo_open=True))
+
+    def __call__(self, beta):
+        beta = np.asarray(beta, dtype=float)
+        return self.b * beta * (1.0 - beta)
+
+    def derivative(self, beta):
+        beta = np.asarray(beta, dtype=float)
+        return self.b * (1.0 - 2.0 * beta)
+
+    def symbolic(self, beta):
+        import sympy
+        return sympy.Float(self.b) * beta * (1 - beta)
+
+
+@dataclass(frozen=True)
+class EllipsoidCap:
+    r"""Ellipsoidal yield surface (4.9) with hardening by slip (κ) and contact area (β).
+
+    .. math:: f = (N - A(\kappa,\beta))^2 + |T|^2/m^2 - A(\kappa,\beta)^2, \qquad
+              g = \omega\,(N - A)^2 + |T|^2/m^2
+
+    ``normal_ratio`` :math:`\omega = 1` is the associated rule (4.8); ``ω < 1`` scales the
+    normal slip (dilatancy and compaction) down. ``ω = 0`` is excluded: without normal slip
+    β never changes and a normal force beyond ``2A`` could not be accommodated. The
+    hardening variables evolve by (4.5): :math:`\dot\kappa = \dot\lambda\,|\partial g/\partial T|`,
+    :math:`\dot\beta = B(\beta)\,\dot\lambda\,\partial g/\partial N` (compaction positive, see
+    the module notes). The hardening modulus is (4.7)/(4.11).
+
+    Parameters
+    ----------
+    m : float
+        Ratio of the semi-axes, ``m = tan ϱ > 0``: the slope of the critical-state line.
+    A : AreaHardening
+        A(κ, β), the semi-axis along N.
+    B : AreaGrowth
+        B(β) of (4.5).
+    normal_ratio : float
+        ω > 0 (1: associated).
+    """
+
+    m: float
+    A: AreaHardening = field(default_factory=AreaHardening)
+    B: AreaGrowth = field(default_factory=AreaGrowth)
+    normal_ratio: float = 1.0
+
+    def __post_init__(self):
+        object.__setattr__(self, "m", check_scalar("m", self.m, lo=0.0, lo_open=True))
+        object.__setattr__(self, "normal_ratio", check_scalar("normal_ratio", self.normal_ratio, lo=0.0,
+                                                              lo_open=True))
+        if not isinstance(self.A, AreaHardening):
+            from ..errors import FrictionRulesError
+            raise FrictionRulesError(f"A = {self.A!r} violates: must be an AreaHardening")
+        if not isinstance(self.B, AreaGrowth):
+            from ..errors import FrictionRulesError
+            raise FrictionRulesError(f"B = {self.B!r} violates: must be an AreaGrowth")
+
+    @property
+    def associated(self) -> bool:
+        return self.normal_ratio == 1.0
+
+    def symbolic(self):
+        """``(f, g)`` as SymPy expressions in ``T1, T2, N, kappa, beta`` (see :func:`state_symbols`)."""
+        import sympy
+
+        from ..laws.symbols import N, T1, T2
+        kappa, beta = state_symbols()
+        A = self.A.symbolic(kappa, beta)
+        m2 = sympy.Float(self.m) ** 2
+        t2 = (T1**2 + T2**2) / m2
+        f = (N - A) ** 2 + t2 - A**2
+        g = sympy.Float(self.normal_ratio) * (N - A) ** 2 + t2
+        return f, g
+
+    def _args(self, T, N, kappa, beta):
+        T = check_finite("T", T)
+        return np.broadcast_arrays(T[..., 0], T[..., 1], check_finite("N", N),
+                                   check_finite("kappa", kappa), check_finite("beta", beta))
+
+    def limit(self, T, N, kappa=0.0, beta=0.5):
+        """f of (4.9): < 0 inside, 0 on the surface."""
+        return _compiled_cap(self).f(*self._args(T, N, kappa, beta))
+
+    def potential(self, T, N, kappa=0.0, beta=0.5):
+        """g = ω (N - A)^2 + |T|^2/m^2 (= f + A^2 when associated)."""
+        return _compiled_cap(self).g(*self._args(T, N, kappa, beta))
+
+    def limit_gradient(self, T, N, kappa=0.0, beta=0.5):
+        """``(df/dT1, df/dT2, df/dN, df/dkappa, df/dbeta)``, shape ``(..., 5)``."""
+        return _compiled_cap(self).grad_f(*self._args(T, N, kappa, beta))
+
+    def potential_gradient(self, T, N, kappa=0.0, beta=0.5):
+        """``(dg/dT1, dg/dT2, dg/dN, dg/dkappa, dg/dbeta)``, shape ``(..., 5)``."""
+        return _compiled_cap(self).grad_g(*self._args(T, N, kappa, beta))
+
+    def potential_hessian(self, T, N, kappa=0.0, beta=0.5):
+        """Second derivatives of g in ``(T1, T2, N, kappa, beta)``, shape ``(..., 5, 5)``, derived symbolically."""
+        return _compiled_cap(self).hess_g(*self._args(T, N, kappa, beta))
+
+    def hardening_modulus(self, T, N, kappa=0.0, beta=0.5):
+        r"""H of (4.7): :math:`H = -[f_{,\kappa}|g_{,T}| + f_{,\beta} B(\beta) g_{,N}]`.
+
+        For the associated cap this is (4.11),
+        :math:`H = 2[f_{,\beta}(A - N)B - f_{,\kappa}(|T|^2/m^4)^{1/2}]`.
+        """
+        gf = self.limit_gradient(T, N, kappa, beta)
+        gg = self.potential_gradient(T, N, kappa, beta)
+        beta = np.broadcast_to(np.asarray(beta, dtype=float), gf.shape[:-1])
+        return -(gf[..., 3] * np.hypot(gg[..., 0], gg[..., 1]) + gf[..., 4] * self.B(beta) * gg[..., 2])
+
+
+def state_symbols():
+    """The SymPy symbols ``kappa, beta`` of the hardening variables."""
+    import sympy
+    return sympy.symbols("kappa beta", real=True)
+
+
+@functools.lru_cache(maxsize=64)
+def _compiled_cap(cap: EllipsoidCap):
+    """Lambdified f, g and their gradients and Hessians in ``(T1, T2, N, kappa, beta)``."""
+    import sympy
+
+    from ..laws._derived import _matrix, _scalar, _vector
+    from ..laws.symbols import N, T1, T2
+
+    x = (T1, T2, N, *state_symbols())
+    f, g = cap.symbolic()
+
+    def lam(expr, shape):
+        fun = sympy.lambdify(x, expr, modules="numpy")
+
+        def call(*args):
+            args = np.broadcast_arrays(*args)
+            out = fun(*args)
+            return shape(out, args[0].shape)
+        return call
+
+    def grad(e):
+        return [sympy.diff(e, s) for s in x]
+
+    def hess(e):
+        return [[sympy.diff(e, s, t) for t in x] for s in x]
+
+    return _CapFunctions(lam(f, _scalar), lam(g, _scalar), lam(grad(f), _vector),
+                         lam(grad(g), _vector), lam(hess(f), _matrix), lam(hess(g), _matrix))
+
+
+@dataclass(frozen=True)
+class _CapFunctions:
+    f: object
+    g: object
+    grad_f: object
+    grad_g: object
+    hess_f: object
+    hess_g: object

@@ -1,0 +1,111 @@
+"""drive(): mixed control, paths from Python/CSV/TOML, CSV/HDF5 writers, the CLI."""
+
+import h5py
+import numpy as np
+import pytest
+
+from frictionrules import ContactModel, Coulomb, DriveResult, EllipsoidCap, FrictionRulesError, drive
+from frictionrules.cli import main
+from frictionrules.contact import Path, read_path
+from frictionrules.contact.driver import COLUMNS, read_toml
+
+TOML = """
+[model]
+kn = 100.0
+kt = 50.0
+beta = 0.4
+[model.law]
+type = "Coulomb"
+mu = 0.5
+dilatant = true
+[[segment]]
+N = 1.0
+dt1 = 0.0
+dt2 = 0.0
+steps = 4
+[[segment]]
+dt1 = 0.1
+steps = 20
+"""
+
+
+def test_mixed_control_holds_prescribed_forces():
+    """Dilatant Coulomb sheared at fixed N: N stays at its target while the contact opens."""
+    m = ContactModel(Coulomb(0.5, dilatant=True), 100.0, 50.0)
+    r = drive(m, [{"N": 1.0, "dt1": 0.0, "T2": 0.0, "steps": 4}, {"dt1": 0.1, "steps": 20}])
+    assert isinstance(r, DriveResult) and len(r.kappa) == 25
+    np.testing.assert_allclose(r.force[1:, 2], np.linspace(0.25, 1.0, 4).tolist() + [1.0] * 20, rtol=1e-10)
+    np.testing.assert_allclose(r.force[1:, 1], 0.0, atol=1e-12)
+    np.testing.assert_allclose(r.force[-1, 0], 0.5, rtol=1e-10)
+    # dilatancy (1.6): opening equals mu times the tangential slip, on top of the elastic closure
+    assert r.plastic[-1, 2] == pytest.approx(0.5 * r.kappa[-1], rel=1e-10)
+    assert np.all(np.diff(r.work) >= -1e-14)
+
+
+def test_force_controlled_shear_and_displacement_controlled_normal():
+    m = ContactModel(EllipsoidCap(0.6), 100.0, 100.0)
+    r = drive(m, [{"dn": -0.008, "dt1": 0.0, "dt2": 0.0, "steps": 4}, {"T1": 0.3, "T2": 0.1, "steps": 10}])
+    np.testing.assert_allclose(r.force[-1, :2], [0.3, 0.1], rtol=1e-9)
+    assert r.displacement[-1, 2] == pytest.approx(-0.008)
+
+
+def test_path_from_segments_and_errors():
+    p = Path.from_segments([{"N": 2.0, "dt1": 0.0, "steps": 2}, {"dt1": 1.0}])
+    assert p.force_control.tolist() == [[False, False, True]] * 3
+    np.testing.assert_allclose(p.values, [[0, 0, 2], [0, 0, 2], [1, 0, 2]])
+    np.testing.assert_allclose(p.ramp, [0.5, 1, 1])
+    np.testing.assert_array_equal(p.segment, [0, 0, 1])
+    with pytest.raises(FrictionRulesError, match="unknown key"):
+        Path.from_segments([{"X": 1.0}])
+    with pytest.raises(FrictionRulesError, match="two targets"):
+        Path.from_segments([{"N": 1.0, "dn": 0.0}])
+    with pytest.raises(FrictionRulesError, match="steps"):
+        Path.from_segments([{"N": 1.0, "steps": 0}])
+
+
+def test_force_control_on_open_contact_closes_it():
+    m = ContactModel(Coulomb(0.3), 100.0, 50.0)
+    r = drive(m, [{"dn": 0.05, "steps": 1}, {"N": 0.5, "steps": 1}])
+    assert r.status[1] == 2 and r.force[-1, 2] == pytest.approx(0.5)
+
+
+def test_csv_and_hdf5_round_trip(tmp_path):
+    m = ContactModel(Coulomb(0.5, dilatant=True), 100.0, 50.0)
+    r = drive(m, [{"N": 1.0, "dt1": 0.0, "T2": 0.0, "steps": 4}, {"dt1": 0.1, "steps": 5}])
+    r.write(tmp_path / "r.csv")
+    data = np.genfromtxt(tmp_path / "r.csv", delimiter=",", names=True)
+    assert data.dtype.names == COLUMNS
+    np.testing.assert_allclose(data["T1"], r.force[:, 0], rtol=1e-15)
+    r.write(tmp_path / "r.h5", attrs={"model": repr(m)})
+    with h5py.File(tmp_path / "r.h5") as h5:
+        np.testing.assert_array_equal(h5["kappa"][:], r.kappa)
+        assert "Coulomb" in h5.attrs["model"]
+    with pytest.raises(FrictionRulesError, match="suffix"):
+        r.write(tmp_path / "r.txt")
+
+
+def test_read_csv_and_toml_paths(tmp_path):
+    (tmp_path / "p.csv").write_text("N,dt1,T2\n0.5,0,0\n1.0,0,0\n1.0,0.05,0\n")
+    p = read_path(tmp_path / "p.csv")
+    assert p.force_control.tolist() == [[False, True, True]] * 3
+    np.testing.assert_allclose(p.values[:, 0], [0, 0, 0.05])
+    (tmp_path / "bad.csv").write_text("N,Q\n1,2\n")
+    with pytest.raises(FrictionRulesError, match="unknown column"):
+        read_path(tmp_path / "bad.csv")
+    (tmp_path / "d.toml").write_text(TOML)
+    model, path, opts = read_toml(tmp_path / "d.toml")
+    assert model.law == Coulomb(0.5, dilatant=True) and len(path) == 24 and opts["beta"] == 0.4
+    (tmp_path / "e.toml").write_text(TOML.replace('"Coulomb"', '"Nope"'))
+    with pytest.raises(FrictionRulesError, match="type"):
+        read_toml(tmp_path / "e.toml")
+
+
+def test_cli_drive_writes_table_plot_and_progress(tmp_path, capsys):
+    src = tmp_path / "d.toml"
+    src.write_text(TOML.replace("steps = 20", "steps = 250"))
+    rc = main(["drive", str(src), "--out", str(tmp_path / "o.csv"), "--plot", str(tmp_path / "o.png")])
+    out, err = capsys.readouterr()
+    assert rc == 0 and "254 steps" in out
+    assert (tmp_path / "o.csv").exists() and (tmp_path / "o.png").stat().st_size > 1000
+    assert "254/254" in err
+    assert main(["drive", str(tmp_path / "missing.toml")]) == 2

@@ -1,0 +1,44 @@
+"""The shared FCLIB problems: each solved to 1e-8 by its best method, and the cone conditions
+of the solution checked directly on (r, u), independently of the solvers and of the error
+measure. The largest file (SpheresPile, 1812 contacts) is left to ``benchmarks/fclib.py``."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from frictionrules import read_fclib, solve
+from test_io import FCLIB, needs_fclib
+from test_multicontact import cone_violation
+
+#: Best method per file (benchmarks/results/fclib.csv).
+BEST = {
+    "CubeH8.hdf5": "nsgs",
+    "LMGC_GlobalFrictionContactProblem00046.hdf5": "nsgs",
+    "local_problem_test.hdf5": "prox",
+    "LMGC_100_PR_PerioBox-i00361-60-03000.hdf5": "nsgs",
+    "Box_Stacks-i0122-82-5.hdf5": "newton",
+    "spheres-in-a-box-98-i10000-256-10.hdf5": "newton",
+    "Capsules-i125-1213.hdf5": "prox",
+    "Spheres-i099-356-679.hdf5": "newton",
+    "KaplasTower-i1061-4.hdf5": "prox",
+}
+
+
+@needs_fclib
+def test_every_shared_file_has_a_best_method():
+    names = {f.name for f in FCLIB.glob("*.hdf5")}
+    assert set(BEST) | {"SpheresPile-nc1812.hdf5"} >= names
+
+
+@needs_fclib
+@pytest.mark.parametrize("name", sorted(BEST))
+def test_fclib_file_solved_to_1e_8_with_cone_conditions(name):
+    p = read_fclib(FCLIB / name)
+    s = solve(p, method=BEST[name], tol=1e-8)
+    assert s.converged and s.error <= 1e-8
+    np.testing.assert_allclose(s.u, p.W @ s.r + p.q, rtol=0, atol=1e-12 * max(1, np.abs(s.u).max()))
+    # Siconos' error mixes units through its scale max(|q|, |r|, |u|): the conditions hold to
+    # error * scale in forces and velocities alike (and bilinear terms to error * scale^2)
+    scale = max(np.linalg.norm(p.q), np.linalg.norm(s.r), np.linalg.norm(s.u))
+    assert cone_violation(p.mu_bar, s.r, s.u, scale_r=scale, scale_u=scale) < 1e-7
