@@ -7,7 +7,9 @@ Usage (one command, from the repository root)::
 For each file and each method (``nsgs``, ``newton``, ``prox``) it records the time to the
 tolerance (1e-8, or the best error Siconos reaches on that file where Siconos does not reach
 1e-8), the iterations and the final error (Siconos' measure) in
-``benchmarks/results/fclib.csv``. The kernels are compiled and warmed up before any timing.
+``benchmarks/results/fclib.csv`` (and a summary table ``fclib.md``). The kernels are compiled
+and warmed up before any timing; a run under 0.2 s is repeated (5 runs at most, ours and
+Siconos' alike) and the fastest kept.
 
 If Siconos' Python module is importable by the system Python (``/usr/bin/python3``; Debian
 packages ``python3-siconos`` and ``python3-scipy``), the same rows are measured for Siconos'
@@ -120,6 +122,42 @@ def time_to(problem, method: str, tol: float):
     return best
 
 
+def summary(csv_rows: list[str]) -> str:
+    """Markdown table: per file, Siconos' best and our best time to the target, with the ratio.
+
+    The target of a file is 1e-8, or the best error Siconos reached on it when above 1e-8; a
+    run counts when its final error is at most the target.
+    """
+    import csv
+    import io
+    rows = list(csv.DictReader(io.StringIO("\n".join(csv_rows))))
+    best = {}
+    for row in rows:
+        if not row["solver"].startswith("siconos-"):
+            best[(row["file"], "target")] = row["target"]
+        best[(row["file"], "nc")] = row["contacts"]
+    for row in rows:
+        side = "siconos" if row["solver"].startswith("siconos-") else "ours"
+        key = (row["file"], side)
+        reached = float(row["error"]) <= float(best[(row["file"], "target")]) * (1 + 1e-9)
+        if reached and (key not in best or float(row["seconds"]) < float(best[key]["seconds"])):
+            best[key] = row
+    files = sorted({k[0] for k in best}, key=lambda f: int(best[(f, "nc")]))
+    lines = ["| file | nc | target | Siconos best: solver, it, error, s | ours best: method, it, error, s "
+             "| ours / Siconos |", "|---|---:|---|---|---|---:|"]
+    for f in files:
+        cells = []
+        for side in ("siconos", "ours"):
+            r = best.get((f, side))
+            cells.append(f"{r['solver'].replace('siconos-', '')}, {r['iterations']}, {float(r['error']):.1e}, "
+                         f"{float(r['seconds']):.3f}" if r else "not reached")
+        a, b = best.get((f, "siconos")), best.get((f, "ours"))
+        ratio = f"{float(b['seconds']) / max(float(a['seconds']), 1e-4):.2f}" if a and b else "–"
+        lines.append(f"| {f.replace('.hdf5', '')} | {best[(f, 'nc')]} | {best[(f, 'target')]} | {cells[0]} "
+                     f"| {cells[1]} | {ratio} |")
+    return "\n".join(lines) + "\n"
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--fclib", help="folder of FCLIB files (default ../shared/fclib)")
@@ -158,7 +196,12 @@ def main(argv=None) -> int:
                 for solver, mi in (("NSGS", 100000), ("NSN_AC", 2000), ("PROX", 1000)):
                     if solver == "PROX" and problem.nc > 1000:
                         continue  # Siconos' PROX runs out of memory on SpheresPile (README)
-                    sic[solver] = run_siconos(problem, solver, mi, 1e-8, Path(tmpdir))
+                    for _ in range(5):  # best of up to 5 runs under 0.2 s, as for ours
+                        res = run_siconos(problem, solver, mi, 1e-8, Path(tmpdir))
+                        if solver not in sic or res["seconds"] < sic[solver]["seconds"]:
+                            sic[solver] = res
+                        if not res["seconds"] < 0.2:
+                            break
                 errors = [v["error"] for v in sic.values() if np.isfinite(v["error"])]
                 target = max(1e-8, min(errors)) if errors else target
                 for solver, res in sic.items():
@@ -175,7 +218,10 @@ def main(argv=None) -> int:
                 rows.append(f"{f.name},{problem.nc},{name},{tgt:.1e},{it},{err:.3e},{int(bool(conv))},"
                             f"{sec:.6f},{info},{ours_s}")
     write_text(args.out, "\n".join(rows) + "\n")
-    print(f"wrote {args.out}")
+    table = summary(rows)
+    write_text(Path(args.out).with_suffix(".md"), table)
+    print(table)
+    print(f"wrote {args.out} and {Path(args.out).with_suffix('.md')}")
     return 0
 
 

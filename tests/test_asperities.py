@@ -3,11 +3,12 @@ against independent brute-force checks (a dense velocity scan and a linear progr
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 from scipy.optimize import linprog
 
-from frictionrules import FacetSet, FrictionRulesError, TwoFlankAsperity, WedgeAsperity, compare_rules
+from frictionrules import (FacetSet, FrictionRulesError, TwoFlankAsperity, WedgeAsperity,
+                           compare_rules)
 
 FIG5 = dict(alpha1=np.pi / 3, alpha2=5 * np.pi / 6, mu=1.0)
 
@@ -356,7 +357,10 @@ def test_bad_input():
 def test_mechanism_invariants(seed, k, mu, local, phi, rot):
     """Equilibrium, N >= 0, admissibility, Radenkovic's bound, and frame rotation."""
     normals = random_normals(np.random.default_rng(seed), k, 0.8)
-    law = FacetSet(normals, mu, local)
+    try:
+        law = FacetSet(normals, mu, local)
+    except FrictionRulesError:
+        assume(False)                                  # the block slides under Q alone
     d = np.array([np.cos(phi), np.sin(phi)])
     r = law.limit_load(d, 1.0)
     if r.mechanism is None:
@@ -364,7 +368,8 @@ def test_mechanism_invariants(seed, k, mu, local, phi, rot):
     else:
         n = law.normal_array
         V = r.velocity
-        thr = np.sin(np.arctan(mu)) if local == "associated" else 0.0
+        # the static limit (no quasi-static sliding) carries the associated mechanism
+        thr = np.sin(np.arctan(mu)) if local == "associated" or not r.quasi_static else 0.0
         assert np.all(V @ n.T >= thr - 1e-8)
         np.testing.assert_allclose(V @ n[list(r.mechanism)].T, thr, atol=1e-8)
         assert np.all(r.normal_forces >= 0)
@@ -383,3 +388,68 @@ def test_mechanism_invariants(seed, k, mu, local, phi, rot):
         assert turned.load == pytest.approx(r.load, rel=1e-8)
     else:
         assert np.isinf(turned.load) or turned.load > 1e6
+
+
+def test_interior_facets_never_slide_and_indices_are_the_users():
+    """A facet whose gradient lies inside the hull of the others separates in every mechanism:
+    adding it changes nothing, and mechanisms keep the user's facet numbering."""
+    rng = np.random.default_rng(5)
+    outer = random_normals(rng, 5, 0.7)
+    p_mean = -(outer[:, :2] / outer[:, 2:]).mean(axis=0)
+    inner = np.array([[p_mean[0], p_mean[1], 1.0]])
+    base = FacetSet(outer, 0.4)
+    more = FacetSet(np.concatenate((inner, outer)), 0.4)        # facet 0 is the interior one
+    phi, d = directions(72)
+    for di in d:
+        a, b = base.limit_load(di), more.limit_load(di)
+        assert b.load == pytest.approx(a.load, rel=1e-12) or (np.isinf(a.load) and np.isinf(b.load))
+        if a.mechanism is not None:
+            assert b.mechanism == tuple(i + 1 for i in a.mechanism)
+            assert b.normal_forces[0] == 0.0
+    np.testing.assert_allclose(more.friction_coefficient(phi), base.friction_coefficient(phi))
+
+
+@settings(max_examples=30, deadline=None)
+@given(a1=st.floats(0.05, 1.5), a2=st.floats(1.65, 3.1), mu=st.floats(0.05, 2.0),
+       local=st.sampled_from(["non-associated", "associated"]))
+def test_two_flank_closed_forms_hypothesis(a1, a2, mu, local):
+    """Closed forms (2.9)-(2.13) / corrected (2.16)-(2.17) = general solver, any groove."""
+    law = TwoFlankAsperity(a1, a2, mu, local)
+    if local == "associated" and law._assoc_pair[3] < 1e-3:
+        return                                           # no associated two-flank mechanism
+    phi, d = directions(64)
+    closed = law.closed_form_load(d)[0]
+    sol = law.limit_curve(n=64)                          # directions differ: use limit_load
+    general = solver_loads(law, d)
+    fin = np.isfinite(closed)
+    assert np.array_equal(fin, np.isfinite(general))
+    np.testing.assert_allclose(general[fin], closed[fin], rtol=1e-8)
+    assert len(sol.load) == 64
+
+
+def test_facets_must_carry_the_vertical_load():
+    """A single facet steeper than the friction angle, or a tilted set, is rejected; the
+    two-flank groove always carries Q (its bisector points up)."""
+    with pytest.raises(FrictionRulesError, match="cannot carry the vertical load"):
+        FacetSet([[-np.sin(0.6), 0.0, np.cos(0.6)]], 0.5)        # 34° > rho = 26.6°
+    FacetSet([[-np.sin(0.4), 0.0, np.cos(0.4)]], 0.5)              # 23° < rho
+    with pytest.raises(FrictionRulesError, match="cannot carry"):
+        FacetSet([[-0.3, 0.4, 1.0], [0.7, 0.3, 1.0]], 0.25)        # both rise towards +y
+    TwoFlankAsperity(1.5, 1.65, 0.05)                              # deep narrow groove
+
+
+def test_static_maximum_bounds_the_non_associated_load():
+    """A marginal groove descending towards +y: pushed along +x, no non-associated sliding
+    equilibrium exists at any load, but beyond the static maximum (LP) no equilibrium exists
+    at all; the limit is that maximum, flagged as not quasi-static."""
+    normals = random_normals(np.random.default_rng(2), 2, 0.8)
+    mu = 0.40625
+    d = np.array([[1.0, 0.0]])
+    assert np.isinf(ray_hits(velocity_scan_pieces(normals, mu), d)[0])   # no mechanism
+    lp = lp_static_max(normals, mu, d)[0]
+    r = FacetSet(normals, mu).limit_load(d[0])
+    assert not r.quasi_static and r.load == pytest.approx(lp, abs=1e-4)   # inner pyramids
+    assert r.load == pytest.approx(FacetSet(normals, mu, "associated").limit_load(d[0]).load)
+    np.testing.assert_allclose(FacetSet(normals, mu).slip_direction(r.T, 1.0), r.velocity,
+                               atol=1e-9)
+    assert TwoFlankAsperity(**FIG5).limit_curve(n=360).quasi_static.all()

@@ -41,7 +41,7 @@ def test_public_names():
 def test_local_roundtrip(tmp_path):
     p = random_problem()
     s = solve(p)
-    path = write_fclib(tmp_path / "p.hdf5", p, solution=s)
+    path = write_fclib(tmp_path / "p.hdf5", p, solution=s, description="pile de sphères")
     back = read_fclib(path)
     assert (back.W != p.W).nnz == 0
     np.testing.assert_array_equal(back.q, p.q)

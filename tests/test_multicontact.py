@@ -66,6 +66,14 @@ def test_single_contact_slip(method):
     np.testing.assert_allclose(s.u, [0.0, 1.5, 0.0], atol=1e-9)
 
 
+@pytest.mark.parametrize("method", METHODS)
+def test_single_contact_frictionless_slip(method):
+    # mu = 0: r = (1, 0, 0), u = (0, 2, -1)
+    s = solve(single(np.eye(3), [-1.0, 2.0, -1.0], 0.0), method=method, tol=1e-12)
+    np.testing.assert_allclose(s.r, [1.0, 0.0, 0.0], atol=1e-9)
+    np.testing.assert_allclose(s.u, [0.0, 2.0, -1.0], atol=1e-9)
+
+
 def test_single_contact_slip_coupled_block():
     """A non-diagonal SPD block: the exact local solver must give a zero-error slip."""
     A = np.array([[2.0, 0.3, -0.2], [0.3, 1.5, 0.4], [-0.2, 0.4, 1.2]])

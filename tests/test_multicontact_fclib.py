@@ -17,7 +17,7 @@ BEST = {
     "LMGC_GlobalFrictionContactProblem00046.hdf5": "nsgs",
     "local_problem_test.hdf5": "prox",
     "LMGC_100_PR_PerioBox-i00361-60-03000.hdf5": "nsgs",
-    "Box_Stacks-i0122-82-5.hdf5": "newton",
+    "Box_Stacks-i0122-82-5.hdf5": "nsgs",
     "spheres-in-a-box-98-i10000-256-10.hdf5": "newton",
     "Capsules-i125-1213.hdf5": "prox",
     "Spheres-i099-356-679.hdf5": "newton",

@@ -222,9 +222,9 @@ def _write_sparse(h5, group: str, A, fmt: str = "csr") -> None:
 
 
 def _write_info(h5, group: str, title: str, description: str) -> None:
-    h5[f"{group}/info/title"] = np.bytes_(title)
-    h5[f"{group}/info/description"] = np.bytes_(description)
-    h5[f"{group}/info/math_info"] = np.bytes_("")
+    h5[f"{group}/info/title"] = np.bytes_(str(title).encode("utf-8"))
+    h5[f"{group}/info/description"] = np.bytes_(str(description).encode("utf-8"))
+    h5[f"{group}/info/math_info"] = np.bytes_(b"")
 
 
 def _write_solution(h5, solution) -> None:

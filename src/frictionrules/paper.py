@@ -21,6 +21,12 @@ FIGURES: tuple[tuple[str, str], ...] = (
     ("fig1d_directional_friction", "frictionrules.plot.laws:directional_friction"),
     ("fig3a_wedge_elliptic", "frictionrules.plot.laws:wedge_elliptic"),
     ("fig3b_wedge_parabolic", "frictionrules.plot.laws:wedge_parabolic"),
+    # asperity mechanisms (issue 3)
+    ("fig5_two_flank", "frictionrules.plot.asperities:fig5_two_flank"),
+    ("fig6a_limit_surface", "frictionrules.plot.asperities:fig6a_limit_surface"),
+    ("fig6b_potential_surface", "frictionrules.plot.asperities:fig6b_potential_surface"),
+    ("fig7_associated", "frictionrules.plot.asperities:fig7_associated"),
+    ("heightmap_polar_mu", "frictionrules.plot.asperities:heightmap_polar"),
     # configuration softening (issue 5)
     ("fig8_cylinder_limit_evolution", "frictionrules.plot.configuration:cylinder_limit_evolution"),
     ("fig9_sphere_limit_evolution", "frictionrules.plot.configuration:sphere_limit_evolution"),
@@ -35,6 +41,7 @@ FIGURES: tuple[tuple[str, str], ...] = (
 #: "module:function" of every key-number table.
 KEY_NUMBERS: tuple[str, ...] = (
     "frictionrules.laws.summary:key_numbers",
+    "frictionrules.asperities.summary:key_numbers",  # asperity mechanisms (issue 3)
     "frictionrules.configuration.summary:key_numbers",
     "frictionrules.contact.summary:key_numbers",  # issue 4
 )

@@ -28,6 +28,10 @@ facet that separates (:math:`V\cdot n_j > 0`) carrying nothing.
 
 The *limit load* in a horizontal direction ``d`` is the smallest factor :math:`t \ge 0` for
 which the load :math:`F = (t d, -Q)` admits a mechanism; it is ``inf`` (locked) when none does.
+For the non-associated rule it is capped by the static maximum (the associated limit load:
+beyond it no equilibrium exists at all), where the block loses equilibrium without a
+quasi-static mechanism (``LimitLoad.quasi_static``); so the non-associated load never exceeds
+the associated one (Radenkovic). The facets must carry ``Q`` alone (checked on construction).
 Everything is homogeneous of degree one in ``(T, Q)``.
 
 As a law of the core protocol (:class:`frictionrules.FrictionLaw`) a facet set uses the
@@ -35,8 +39,9 @@ vertical load ``Q`` in the place of ``N`` and the block velocity as the generali
 
 .. math:: f(T, Q) = |T| - Q\,t_1(T/|T|),
 
-with :math:`t_1` the limit load at ``Q = 1`` (``-inf`` in locked directions), negative inside,
-zero on the limit surface. At ``T = 0`` the direction is taken as +x.
+with :math:`t_1` the limit load at ``Q = 1``: negative inside, zero on the limit surface,
+positive outside, ``-inf`` in locked directions (``t_1 = inf``). At ``T = 0`` the direction is
+taken as +x.
 """
 
 from __future__ import annotations
@@ -47,13 +52,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import FrictionRulesError, check_finite, check_scalar
-from ..laws.base import FrictionLaw, _Locked, as_force
+from ..laws.base import FrictionLaw, _Locked
 
 __all__ = ["FacetSet", "LimitLoad", "LimitCurve", "Corner"]
 
 _LOCALS = ("non-associated", "associated")
 _TOL = 1e-9          # tolerance on dot products of unit vectors (admissibility, ties)
 _CURVE_POINTS = 4096  # directions of the support-point search of the associated inverse
+_SMOOTH = 1e-7       # |turning| below which a mechanism change is a smooth join, not a corner
+_CHUNK_ENTRIES = 1 << 22  # entries per direction chunk of the solver's temporaries
 
 
 # ---------------------------------------------------------------------------------------------
@@ -75,6 +82,12 @@ class LimitLoad:
         Normal force on every facet (``>= 0``; zero off the mechanism).
     velocity : (3,) array
         Unit block velocity ``(Vx, Vy, Vz)``, ``Vz > 0`` upwards; zeros when locked.
+    quasi_static : bool
+        True when the block slides in equilibrium (a mechanism of the local rule). False
+        (non-associated rule only) when the static maximum comes first: beyond it no
+        equilibrium exists, the block accelerates; ``mechanism``, ``normal_forces`` and
+        ``velocity`` are then those of the static limit (the associated mechanism, whose
+        velocity is the normal of the static limit surface).
     """
 
     load: float
@@ -82,6 +95,7 @@ class LimitLoad:
     mechanism: tuple[int, ...] | None
     normal_forces: np.ndarray
     velocity: np.ndarray
+    quasi_static: bool = True
 
 
 @dataclass(frozen=True)
@@ -112,7 +126,9 @@ class Corner:
 
     @property
     def concave(self) -> bool:
-        return self.turning < 0.0
+        """True for a re-entrant corner (``turning < -1e-7``; smaller turnings are smooth
+        joins, e.g. the tangent joins of the associated rule)."""
+        return self.turning < -_SMOOTH
 
 
 @dataclass(frozen=True)
@@ -134,6 +150,7 @@ class LimitCurve:
         rule is (0 where it is associated).
     tangential_rule_angle : (M,) the same for the horizontal parts (the sliding plane).
     corners : tuple of :class:`Corner`
+    quasi_static : (M,) bool, see :class:`LimitLoad`.
     """
 
     Q: float
@@ -147,6 +164,7 @@ class LimitCurve:
     rule_angle: np.ndarray
     tangential_rule_angle: np.ndarray
     corners: tuple[Corner, ...]
+    quasi_static: np.ndarray
 
     @property
     def labels(self) -> list[str]:
@@ -172,7 +190,8 @@ def _unit(v: np.ndarray) -> np.ndarray:
 
 @dataclass(frozen=True)
 class _Geometry:
-    n: np.ndarray        # (K, 3) unit normals
+    index: np.ndarray    # (K,) facets that can slide (of the user's numbering)
+    n: np.ndarray        # (K, 3) their unit normals
     slope: np.ndarray    # (K, 2) gradients p = -n_h / n_z of the facet planes
     mu: float
     associated: bool
@@ -181,6 +200,7 @@ class _Geometry:
     pair_k: np.ndarray
     pair_v: np.ndarray   # (P, 3)
     pair_r: np.ndarray   # (P, 2, 3) unit-N reactions r = n - mu w of the two facets
+    static: _Geometry | None  # associated twin of a non-associated set (the static maximum)
 
 
 def _pairs(n: np.ndarray, mu: float, associated: bool, threshold: float):
@@ -217,6 +237,28 @@ def _pairs(n: np.ndarray, mu: float, associated: bool, threshold: float):
         j, k, v = j[keep], k[keep], v[keep]
     r = np.stack((_reaction(n[j], v, mu), _reaction(n[k], v, mu)), axis=1)
     return j, k, v, r
+
+
+def _downward_velocity(n: np.ndarray, mu: float):
+    r"""A unit velocity that makes the block descend freely, or ``None`` if there is none.
+
+    The vertical load alone is carried iff :math:`Q z \in \sum_j K_j` (friction cones); by
+    duality iff every ``V`` of the dual cone :math:`\bigcap_j\{V: V\cdot n_j \ge
+    \sin\varrho|V|\}` has :math:`V_z \ge 0`. The lowest point of that cone on the unit
+    sphere is the lowest point of one facet's cone, :math:`\sin\varrho\, n_j +
+    \cos\varrho\, w_j` (``w_j`` down-slope), or an intersection of two cones; the candidates
+    that are admissible for every facet are checked.
+    """
+    rho = np.arctan(mu)
+    sr = float(np.sin(rho))
+    up = np.array([0.0, 0.0, 1.0]) - n[:, 2:] * n
+    upn = np.linalg.norm(up, axis=-1, keepdims=True)
+    steep = upn[:, 0] > 1e-12
+    cands = [np.sin(rho) * n[steep] - np.cos(rho) * up[steep] / upn[steep]]
+    cands.append(_pairs(n, mu, True, sr)[2])
+    V = np.concatenate(cands)
+    V = V[np.all(V @ n.T >= sr - _TOL, axis=-1) & (V[:, 2] < -1e-12)]
+    return V[0] if len(V) else None
 
 
 def _reaction(n: np.ndarray, v: np.ndarray, mu: float) -> np.ndarray:
@@ -271,7 +313,8 @@ class _FacetLaw(FrictionLaw):
         return LimitLoad(load=t if not locked else np.inf,
                          T=np.full(2, np.inf) if locked else t * _unit(d),
                          mechanism=None if locked else ids,
-                         normal_forces=forces, velocity=sol["velocity"][0])
+                         normal_forces=forces, velocity=sol["velocity"][0],
+                         quasi_static=bool(sol["quasi_static"][0]))
 
     def limit_curve(self, Q=1.0, n: int = 720) -> LimitCurve:
         """The limit curve at fixed ``Q`` over ``n`` load directions, with corners.
@@ -300,19 +343,20 @@ class _FacetLaw(FrictionLaw):
                           normal_forces=Q * sol["forces"], velocity=vel, normal=nrm,
                           rule_angle=_angle(vel, nrm), tangential_rule_angle=_angle(vel[:, :2],
                                                                                     nrm[:, :2]),
-                          corners=tuple(corners))
+                          corners=tuple(corners), quasi_static=sol["quasi_static"])
 
     def limit_surface(self, Q, n: int = 720) -> np.ndarray:
         """Points ``(Tx, Ty, Q)`` of the limit surface, shape ``(len(Q), n, 3)``.
 
         The surface is a cone with apex at the origin: the curve at ``Q`` is ``Q`` times the
-        curve at ``Q = 1``.
+        curve at ``Q = 1`` (``inf`` in locked directions, also at ``Q = 0``).
         """
         Q = np.atleast_1d(check_finite("Q", Q))
         if np.any(Q < 0):
             raise FrictionRulesError(f"Q = {Q.tolist()!r} violates Q >= 0")
         T1 = self.limit_curve(1.0, n).T
-        T = Q[:, None, None] * T1[None]
+        fin = np.isfinite(T1)
+        T = np.where(fin, Q[:, None, None] * np.where(fin, T1, 0.0)[None], np.inf)
         return np.concatenate((T, np.broadcast_to(Q[:, None, None], T.shape[:2] + (1,))), axis=-1)
 
     # ---- protocol ------------------------------------------------------------------------
@@ -338,7 +382,7 @@ class _FacetLaw(FrictionLaw):
         """Per point: F = (Tx, Ty, -Q), the active facet normal(s) and the velocity/normal."""
         T, Q, r, sol = self._at(T, Q)
         F = np.concatenate((T, -Q[..., None]), axis=-1)
-        n = self._facets._geometry.n
+        n = self._facets.normal_array
         j = sol["facets"][..., 0]
         single = (j >= 0) & (sol["facets"][..., 1] < 0)
         nj = n[np.where(j >= 0, j, 0)]
@@ -353,19 +397,21 @@ class _FacetLaw(FrictionLaw):
         One facet ``j``: :math:`g = |F - (F\\cdot n_j)n_j|` (the wedge potential (2.6), (2.14));
         with ``local="associated"`` :math:`g = f_j = |F_t| + \\mu F\\cdot n_j`. Two facets:
         :math:`g = V\\cdot F` with the mechanism's unit velocity ``V`` ((2.15): ``g = ±Ty`` for
-        the two-flank asperity). Zero in locked directions.
+        the two-flank asperity). Zero in locked directions. Where the static maximum limits a
+        non-associated set (``quasi_static`` False) the associated potential is used.
         """
         F, single, nj, w, sol = self._mechanism_terms(T, Q)
-        g1 = np.sum(F * w, axis=-1)
-        if self.associated:
-            g1 = g1 + self._facets.mu * np.sum(F * nj, axis=-1)
+        dilatant = self.associated | ~sol["quasi_static"]
+        g1 = np.sum(F * w, axis=-1) + np.where(dilatant, self._facets.mu, 0.0) * np.sum(F * nj,
+                                                                                        axis=-1)
         g2 = np.sum(F * sol["velocity"], axis=-1)
         return np.where(single, g1, g2)
 
     def potential_gradient(self, T, Q):
         """``(dg/dTx, dg/dTy, dg/dQ)`` of :meth:`potential`."""
         F, single, nj, w, sol = self._mechanism_terms(T, Q)
-        g1 = w + (self._facets.mu * nj if self.associated else 0.0)
+        dilatant = self.associated | ~sol["quasi_static"]
+        g1 = w + np.where(dilatant, self._facets.mu, 0.0)[..., None] * nj
         g = np.where(single[..., None], g1, sol["velocity"])
         return g * np.array([1.0, 1.0, -1.0])
 
@@ -403,6 +449,10 @@ class _FacetLaw(FrictionLaw):
         maximum (the velocity runs along their intersection) the loads form a segment and the
         smallest ``|T|`` on it is returned. Associated: the limit curve is convex and the load
         is its support point in the direction ``u`` (found on a dense curve).
+
+        This is the velocity-driven load, unique for every ``theta``. For a non-associated set
+        whose mechanism pieces fold it can lie beyond the first mechanism met on its radial
+        load path (:meth:`limit_load`), where ``limit > 0``; see ``docs/asperities.md``.
         """
         theta, Q = np.broadcast_arrays(np.asarray(theta, dtype=float), np.asarray(Q, dtype=float))
         u = np.stack((np.cos(theta), np.sin(theta)), axis=-1).reshape(-1, 2)
@@ -439,6 +489,10 @@ class FacetSet(_FacetLaw):
     local : {"non-associated", "associated"}
         Local sliding rule: Coulomb without normal slip (1.5) or the dilatant rule (1.6).
 
+    The facets must carry the vertical load alone (``Q z`` inside the sum of their friction
+    cones: the block does not slide down under ``Q`` with ``T = 0``); otherwise
+    :class:`FrictionRulesError` is raised.
+
     Notes
     -----
     Only the set of normal *directions* matters: a rigid block loads whichever facets its
@@ -453,11 +507,12 @@ class FacetSet(_FacetLaw):
     def __post_init__(self):
         n = check_finite("normals", self.normals)
         if n.ndim != 2 or n.shape[-1] != 3 or len(n) == 0:
-            raise FrictionRulesError(f"normals must have shape (K, 3) with K >= 1, got shape {n.shape}")
+            raise FrictionRulesError(f"normals must have shape (K, 3) with K >= 1, got shape "
+                                     f"{n.shape}")
         norm = np.linalg.norm(n, axis=-1)
         if np.any(norm == 0):
-            raise FrictionRulesError(f"normals[{int(np.argmin(norm))}] = {n[np.argmin(norm)].tolist()!r} "
-                                     "violates |n| > 0")
+            i = int(np.argmin(norm))
+            raise FrictionRulesError(f"normals[{i}] = {n[i].tolist()!r} violates |n| > 0")
         n = n / norm[:, None]
         if np.any(n[:, 2] <= 1e-9):
             i = int(np.argmin(n[:, 2]))
@@ -467,6 +522,13 @@ class FacetSet(_FacetLaw):
         object.__setattr__(self, "mu", check_scalar("mu", self.mu, lo=0.0, lo_open=True))
         if self.local not in _LOCALS:
             raise FrictionRulesError(f"local = {self.local!r} violates local in {_LOCALS}")
+        V = _downward_velocity(n[_boundary_facets(n)], self.mu)
+        if V is not None:
+            raise FrictionRulesError(
+                f"the facets (mu = {self.mu!r}) cannot carry the vertical load alone, the block "
+                f"slides down under Q with T = 0 (the downward velocity {np.round(V, 6).tolist()} "
+                "lies in every facet's dual friction cone); constraint: Q z inside the sum of "
+                "the facets' friction cones. Level the surface or check the normals")
 
     @property
     def _facets(self) -> FacetSet:
@@ -479,12 +541,18 @@ class FacetSet(_FacetLaw):
 
     @functools.cached_property
     def _geometry(self) -> _Geometry:
-        n = self.normal_array
-        rho = np.arctan(self.mu)
-        thr = float(np.sin(rho)) if self.associated else 0.0
-        j, k, v, r = _pairs(n, self.mu, self.associated, thr)
-        return _Geometry(n=n, slope=-n[:, :2] / n[:, 2:], mu=self.mu, associated=self.associated,
-                         threshold=thr, pair_j=j, pair_k=k, pair_v=v, pair_r=r)
+        index = _boundary_facets(self.normal_array)
+        n = self.normal_array[index]
+
+        def build(associated, static):
+            thr = float(np.sin(np.arctan(self.mu))) if associated else 0.0
+            j, k, v, r = _pairs(n, self.mu, associated, thr)
+            return _Geometry(index=index, n=n, slope=-n[:, :2] / n[:, 2:], mu=self.mu,
+                             associated=associated, threshold=thr, pair_j=j, pair_k=k,
+                             pair_v=v, pair_r=r, static=static)
+
+        # the associated twin gives the static maximum, an upper bound for both rules
+        return build(True, None) if self.associated else build(False, build(True, None))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -492,7 +560,54 @@ class FacetSet(_FacetLaw):
 # ---------------------------------------------------------------------------------------------
 def _solve(geo: _Geometry, d: np.ndarray) -> dict:
     """Limit loads (``Q = 1``) in the unit directions ``d`` (M, 2): smallest admissible
-    mechanism over all one-facet and two-facet candidates."""
+    mechanism over all one-facet and two-facet candidates (in chunks of directions that keep
+    the admissibility tensor ``(M, K, 2, K)`` to a few million entries)."""
+    K = len(geo.n)
+    step = max(1, _CHUNK_ENTRIES // (2 * K * K + len(geo.pair_j)))
+    parts = [_solve_chunk(geo, d[i:i + step]) for i in range(0, len(d), step)]
+    out = {k: np.concatenate([p[k] for p in parts]) for k in parts[0]}
+    f = out["facets"]
+    out["facets"] = np.where(f >= 0, geo.index[np.where(f >= 0, f, 0)], -1)
+    out["quasi_static"] = np.ones(len(d), dtype=bool)
+    if geo.static is not None:
+        # beyond the static maximum no equilibrium exists with any friction directions: where
+        # it comes before every non-associated sliding equilibrium, the block loses
+        # equilibrium there (and accelerates) instead
+        st = _solve(geo.static, d)
+        lose = st["load"] < out["load"] * (1.0 - 1e-9)
+        for key in ("load", "facets", "forces", "velocity", "normal"):
+            out[key] = np.where(lose.reshape((-1,) + (1,) * (out[key].ndim - 1)), st[key],
+                                out[key])
+        out["quasi_static"] = ~lose
+    return out
+
+
+def _boundary_facets(n: np.ndarray) -> np.ndarray:
+    r"""Indices of the facets that can take part in a mechanism.
+
+    A facet whose gradient :math:`p = -n_h/n_z` lies strictly inside the convex hull of the
+    gradients has a normal inside the cone of the others: it separates in every admissible
+    motion (:math:`V\cdot n = \sum\lambda_i V\cdot n_i`, also for the associated bound
+    :math:`\sin\varrho|V|` since :math:`\sum\lambda_i \ge 1`) and never slides. Kept:
+    hull vertices and gradients on hull edges (all of them when the gradients are collinear).
+    """
+    K = len(n)
+    p = -n[:, :2] / n[:, 2:]
+    if K <= 3:
+        return np.arange(K)
+    ev = np.linalg.eigvalsh(np.cov(p.T))
+    if ev[0] <= 1e-12 * max(ev[1], 0.0) + 1e-30:
+        return np.arange(K)
+    from scipy.spatial import ConvexHull, QhullError
+    try:
+        hull = ConvexHull(p, qhull_options="Qc")
+    except QhullError:
+        return np.arange(K)
+    dist = np.max(p @ hull.equations[:, :2].T + hull.equations[:, 2], axis=-1)
+    return np.flatnonzero(dist >= -1e-9 * (1.0 + np.abs(p).max()))
+
+
+def _solve_chunk(geo: _Geometry, d: np.ndarray) -> dict:
     M, n, mu = len(d), geo.n, geo.mu
     D = np.concatenate((d, np.zeros((M, 1))), axis=-1)
     z = np.array([0.0, 0.0, 1.0])
@@ -654,8 +769,8 @@ def _support_force(geo: _Geometry, u: np.ndarray) -> np.ndarray:
     def height(ph):
         e = np.stack((np.cos(ph), np.sin(ph)), axis=-1)
         tt = _solve(geo, e)["load"]
-        return np.where(np.isfinite(tt), np.sum(u * e, axis=-1) * np.where(np.isfinite(tt), tt, 0.0),
-                        -np.inf), tt, e
+        fin = np.isfinite(tt)
+        return np.where(fin, np.sum(u * e, axis=-1) * np.where(fin, tt, 0.0), -np.inf), tt, e
 
     for _ in range(40):
         a, b = hi - g * (hi - lo), lo + g * (hi - lo)

@@ -11,7 +11,7 @@ slide. With the facet gradient :math:`p = (\partial h/\partial x, \partial h/\pa
   for the two-facet mechanisms along a hull edge, the gradients on that edge); gradients
   strictly inside never slide;
 * facets are *grouped* (:func:`group_gradients`): the hull vertices that carry the support
-  function in ``8 * bins`` directions are kept exactly, the gradients on a straight hull edge
+  function in ``2 * bins`` directions are kept exactly, the gradients on a straight hull edge
   (or, for a profile or a surface of parallel ridges, along the line of gradients) are binned
   into at most ``bins`` groups represented by their mean. This keeps the mechanism search to a
   bounded number of facets for any map size.
@@ -38,8 +38,10 @@ def _bin_means(s: np.ndarray, values: np.ndarray, bins: int) -> np.ndarray:
     if len(s) == 0:
         return values[:0]
     lo, hi = float(s.min()), float(s.max())
-    idx = np.zeros(len(s), int) if hi <= lo else np.minimum(((s - lo) / (hi - lo) * bins).astype(int),
-                                                            bins - 1)
+    if hi <= lo:
+        idx = np.zeros(len(s), int)
+    else:
+        idx = np.minimum(((s - lo) / (hi - lo) * bins).astype(int), bins - 1)
     counts = np.bincount(idx, minlength=bins)
     sums = np.stack([np.bincount(idx, weights=values[:, k], minlength=bins)
                      for k in range(values.shape[1])], axis=-1)
@@ -60,41 +62,22 @@ def _group_line(p: np.ndarray, bins: int) -> np.ndarray:
 
 
 def _support_points(p: np.ndarray, m: int) -> np.ndarray:
-    """Indices of the points of ``p`` that attain the support function in ``m`` directions."""
+    """Indices of the points of ``p`` (few) that attain the support function in ``m``
+    equally spaced directions."""
     a = 2.0 * np.pi * np.arange(m) / m
     U = np.stack((np.cos(a), np.sin(a)), axis=-1)
-    best = np.full(m, -np.inf)
-    arg = np.zeros(m, dtype=int)
-    for lo in range(0, len(p), _CHUNK):
-        h = p[lo:lo + _CHUNK] @ U.T
-        i = np.argmax(h, axis=0)
-        v = h[i, np.arange(m)]
-        better = v > best
-        best = np.where(better, v, best)
-        arg = np.where(better, lo + i, arg)
-    return np.unique(arg)
-
-
-def _outside(p: np.ndarray, eq: np.ndarray, tol: float) -> np.ndarray:
-    """Mask of the points not strictly inside the convex polygon with edge equations ``eq``."""
-    out = np.empty(len(p), dtype=bool)
-    for lo in range(0, len(p), _CHUNK):
-        out[lo:lo + _CHUNK] = np.max(p[lo:lo + _CHUNK] @ eq[:, :2].T + eq[:, 2], axis=-1) >= -tol
-    return out
-
-
-_CHUNK = 1 << 15
+    return np.unique(np.argmax(p @ U.T, axis=0))
 
 
 def group_gradients(p, bins: int = 64) -> np.ndarray:
-    """The gradients (K, 2) that represent the facets ``p`` (M, 2) in the mechanism search.
+    r"""The gradients (K, 2) that represent the facets ``p`` (M, 2) in the mechanism search.
 
     Of the convex hull of the gradients, the vertices that attain the support function
-    :math:`\max_m p_m\cdot u` in ``8 * bins`` equally spaced directions ``u`` are kept (all
+    :math:`\max_m p_m\cdot u` in ``2 * bins`` equally spaced directions ``u`` are kept (all
     vertices of a polygonal hull with fewer corners; a finely curved hull is approximated
-    from inside, with an error of order ``(pi / (8 bins))**2`` in the support function); the
-    gradients lying on the edges between kept vertices (a straight hull edge, e.g. from
-    ridges) are binned into at most ``bins`` groups per edge. When all gradients are
+    from inside, with a relative error of order ``(pi / (2 bins))**2 / 2`` in the support
+    function); the gradients lying on the edges between kept vertices (a straight hull edge,
+    e.g. from ridges) are binned into at most ``bins`` groups per edge. When all gradients are
     collinear (parallel ridges) both ends are kept and the inside is binned, as for a profile.
     """
     from scipy.spatial import ConvexHull, QhullError
@@ -102,31 +85,26 @@ def group_gradients(p, bins: int = 64) -> np.ndarray:
     p = np.asarray(p, dtype=float).reshape(-1, 2)
     scale = 1.0 + float(np.abs(p).max())
     tol = 1e-9 * scale
-    cov = np.cov(p.T) if len(p) > 1 else np.zeros((2, 2))
-    ev = np.linalg.eigvalsh(cov)
+    ev = np.linalg.eigvalsh(np.cov(p.T)) if len(p) > 1 else np.zeros(2)
     if len(p) < 3 or ev[0] <= 1e-12 * max(ev[1], 0.0) + 1e-30 * scale**2:
         return _group_line(p, bins)
-    m = 8 * bins
-    # discard the bulk: points strictly inside the polygon of the support points
-    inner = p[_support_points(p, m)]
     try:
-        if len(inner) >= 3:
-            p = p[_outside(p, ConvexHull(inner).equations, tol)]
-        hull = ConvexHull(p)
+        hull = ConvexHull(p, qhull_options="Qc")    # Qc: also report points on the edges
     except QhullError:
         return _group_line(p, bins)
     verts = p[hull.vertices]
-    kept = verts[_support_points(verts, m)] if len(verts) > m else verts
+    kept = verts[_support_points(verts, 2 * bins)] if len(verts) > 2 * bins else verts
     kept = kept[np.argsort(np.arctan2(*(kept - kept.mean(axis=0)).T[::-1]))]  # counter-clockwise
+    cand = p[np.unique(hull.coplanar[:, 0])] if len(hull.coplanar) else p[:0]
     out = [kept]
     for a, b in zip(kept, np.roll(kept, -1, axis=0)):
         ab = b - a
         L = float(np.hypot(*ab))
-        s = (p - a) @ ab / L
-        dist = np.abs((p - a) @ np.array([-ab[1], ab[0]]) / L)
+        s = (cand - a) @ ab / L
+        dist = np.abs((cand - a) @ np.array([-ab[1], ab[0]]) / L)
         on = (dist <= tol) & (s > tol) & (s < L - tol)
         if on.any():
-            out.append(_bin_means(s[on], p[on], bins))
+            out.append(_bin_means(s[on], cand[on], bins))
     return np.concatenate(out)
 
 
@@ -214,3 +192,25 @@ def from_heightmap(h, dx, dy, mu, local: str = "non-associated", bins: int = 64)
     bins = int(check_scalar("bins", bins, lo=1))
     p = group_gradients(heightmap_gradients(h, dx, dy), bins)
     return FacetSet(_normals(p), mu, local)
+
+
+def machined_surface(n: int = 512, dx: float = 1.0, period: float = 32.0, rise: float = 0.35,
+                     fall: float = 0.2, lay: float = 0.0, roughness: float = 0.4,
+                     correlation: float = 3.0, seed: int = 0) -> np.ndarray:
+    """A synthetic machined height map ``(n, n)``: asymmetric grooves plus random roughness.
+
+    Grooves of the given ``period`` run along the lay direction ``lay`` (radians from y); across
+    the lay the profile rises at the slope ``rise`` and falls at ``fall``. The roughness is white
+    noise smoothed by a Gaussian of ``correlation`` grid steps and scaled to the standard
+    deviation ``roughness`` (same length unit as ``dx``), reproducible through ``seed``.
+    """
+    from scipy.ndimage import gaussian_filter
+
+    y, x = np.mgrid[0:n, 0:n] * dx
+    across = x * np.cos(lay) + y * np.sin(lay)
+    frac = (across / period) % 1.0
+    split = fall / (rise + fall)
+    grooves = np.where(frac < split, rise * frac, rise * split - fall * (frac - split)) * period
+    noise = gaussian_filter(np.random.default_rng(seed).standard_normal((n, n)), correlation,
+                            mode="wrap")
+    return grooves + roughness * noise / noise.std()

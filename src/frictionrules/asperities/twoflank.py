@@ -79,8 +79,8 @@ class TwoFlankAsperity(_FacetLaw):
     def __post_init__(self):
         object.__setattr__(self, "alpha1", check_scalar("alpha1", self.alpha1, lo=0.0, hi=np.pi / 2,
                                                         lo_open=True, hi_open=True))
-        object.__setattr__(self, "alpha2", check_scalar("alpha2", self.alpha2, lo=np.pi / 2, hi=np.pi,
-                                                        lo_open=True, hi_open=True))
+        object.__setattr__(self, "alpha2", check_scalar("alpha2", self.alpha2, lo=np.pi / 2,
+                                                        hi=np.pi, lo_open=True, hi_open=True))
         object.__setattr__(self, "mu", check_scalar("mu", self.mu, lo=0.0, lo_open=True))
         if self.local not in _LOCALS:
             raise FrictionRulesError(f"local = {self.local!r} violates local in {_LOCALS}")

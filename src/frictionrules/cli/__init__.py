@@ -15,7 +15,7 @@ import sys
 from ..errors import FrictionRulesError
 
 #: Subcommand modules of this package, in the order ``--help`` lists them.
-SUBCOMMANDS = ("paper", "law", "solve", "configuration", "drive")
+SUBCOMMANDS = ("paper", "law", "solve", "configuration", "drive", "asperity")
 
 
 class _Parser(argparse.ArgumentParser):

@@ -78,7 +78,8 @@ def _plastic(i, e0, e1, e2, T1, T2, N, kt, kn, dl, dkappa, p, kappa, out_e, out_
 
 
 @njit(inline="always", error_model="numpy")
-def _coulomb_update_one(i, e, p, kappa, du, kt, kn, mu, dilatant, out_e, out_p, out_kappa, out_force, out_dlam, out_status, out_diss):
+def _coulomb_update_one(i, e, p, kappa, du, kt, kn, mu, dilatant, out_e, out_p, out_kappa, out_force,
+                        out_dlam, out_status, out_diss):
     e0 = e[i, 0] + du[i, 0]
     e1 = e[i, 1] + du[i, 1]
     e2 = e[i, 2] + du[i, 2]
@@ -86,7 +87,8 @@ def _coulomb_update_one(i, e, p, kappa, du, kt, kn, mu, dilatant, out_e, out_p, 
     T2 = kt * e1
     N = -kn * e2
     if N <= 0.0:
-        _open(i, e2, p, kappa, out_e, out_p, out_kappa, out_force, out_dlam, out_status, out_diss, e0, e1)
+        _open(i, e2, p, kappa, out_e, out_p, out_kappa, out_force, out_dlam, out_status, out_diss, e0,
+              e1)
         return
     r = np.sqrt(T1 * T1 + T2 * T2)
     f = r - mu * N
@@ -112,20 +114,22 @@ def coulomb_update(e, p, kappa, du, kt, kn, mu, dilatant,
     ``dilatant`` selects g = f ((1.6): normal slip ``mu |Δδtᵖ|``, opening) instead of g = |T|.
     """
     for i in prange(e.shape[0]):
-        _coulomb_update_one(i, e, p, kappa, du, kt, kn, mu, dilatant, out_e, out_p, out_kappa, out_force, out_dlam, out_status, out_diss)
+        _coulomb_update_one(i, e, p, kappa, du, kt, kn, mu, dilatant, out_e, out_p, out_kappa,
+                            out_force, out_dlam, out_status, out_diss)
 
 
 @njit(cache=True, error_model="numpy")
 def coulomb_update_serial(e, p, kappa, du, kt, kn, mu, dilatant,
-                   out_e, out_p, out_kappa, out_force, out_dlam, out_status, out_diss):
+                          out_e, out_p, out_kappa, out_force, out_dlam, out_status, out_diss):
     """Serial twin of :func:`coulomb_update` for small batches (no thread launch)."""
     for i in range(e.shape[0]):
-        _coulomb_update_one(i, e, p, kappa, du, kt, kn, mu, dilatant, out_e, out_p, out_kappa, out_force, out_dlam, out_status, out_diss)
-
+        _coulomb_update_one(i, e, p, kappa, du, kt, kn, mu, dilatant, out_e, out_p, out_kappa,
+                            out_force, out_dlam, out_status, out_diss)
 
 
 @njit(inline="always", error_model="numpy")
-def _elliptic_update_one(i, e, p, kappa, du, kt, kn, mu_x, mu_y, c, s, out_e, out_p, out_kappa, out_force, out_dlam, out_status, out_diss):
+def _elliptic_update_one(i, e, p, kappa, du, kt, kn, mu_x, mu_y, c, s, out_e, out_p, out_kappa,
+                         out_force, out_dlam, out_status, out_diss):
     e0 = e[i, 0] + du[i, 0]
     e1 = e[i, 1] + du[i, 1]
     e2 = e[i, 2] + du[i, 2]
@@ -133,7 +137,8 @@ def _elliptic_update_one(i, e, p, kappa, du, kt, kn, mu_x, mu_y, c, s, out_e, ou
     T2 = kt * e1
     N = -kn * e2
     if N <= 0.0:
-        _open(i, e2, p, kappa, out_e, out_p, out_kappa, out_force, out_dlam, out_status, out_diss, e0, e1)
+        _open(i, e2, p, kappa, out_e, out_p, out_kappa, out_force, out_dlam, out_status, out_diss, e0,
+              e1)
         return
     a1 = c * T1 + s * T2
     a2 = -s * T1 + c * T2
@@ -160,7 +165,8 @@ def _elliptic_update_one(i, e, p, kappa, du, kt, kn, mu_x, mu_y, c, s, out_e, ou
     dl = x * N / kt
     g1 = b1 / (mu_x * mu_x * N)
     g2 = b2 / (mu_y * mu_y * N)
-    _plastic(i, e0, e1, e2, c * b1 - s * b2, s * b1 + c * b2, N, kt, kn, dl, dl * np.sqrt(g1 * g1 + g2 * g2),
+    _plastic(i, e0, e1, e2, c * b1 - s * b2, s * b1 + c * b2, N, kt, kn, dl,
+             dl * np.sqrt(g1 * g1 + g2 * g2),
              p, kappa, out_e, out_p, out_kappa, out_force, out_dlam, out_status, out_diss)
 
 
@@ -178,18 +184,19 @@ def elliptic_update(e, p, kappa, du, kt, kn, mu_x, mu_y, angle,
     c = np.cos(angle)
     s = np.sin(angle)
     for i in prange(e.shape[0]):
-        _elliptic_update_one(i, e, p, kappa, du, kt, kn, mu_x, mu_y, c, s, out_e, out_p, out_kappa, out_force, out_dlam, out_status, out_diss)
+        _elliptic_update_one(i, e, p, kappa, du, kt, kn, mu_x, mu_y, c, s, out_e, out_p, out_kappa,
+                             out_force, out_dlam, out_status, out_diss)
 
 
 @njit(cache=True, error_model="numpy")
 def elliptic_update_serial(e, p, kappa, du, kt, kn, mu_x, mu_y, angle,
-                    out_e, out_p, out_kappa, out_force, out_dlam, out_status, out_diss):
+                           out_e, out_p, out_kappa, out_force, out_dlam, out_status, out_diss):
     """Serial twin of :func:`elliptic_update` for small batches (no thread launch)."""
     c = np.cos(angle)
     s = np.sin(angle)
     for i in range(e.shape[0]):
-        _elliptic_update_one(i, e, p, kappa, du, kt, kn, mu_x, mu_y, c, s, out_e, out_p, out_kappa, out_force, out_dlam, out_status, out_diss)
-
+        _elliptic_update_one(i, e, p, kappa, du, kt, kn, mu_x, mu_y, c, s, out_e, out_p, out_kappa,
+                             out_force, out_dlam, out_status, out_diss)
 
 
 @njit(inline="always")
@@ -230,7 +237,8 @@ def _cap_residual(lam, kap, bet, t2tr, Ntr, kt, kn, m2, om, p_, h, kh, b, kap_n,
 
 
 @njit(inline="always", error_model="numpy")
-def _cap_update_one(i, e, p, kappa, beta, du, kt, kn, m2, om, p_, h, kh, b, out_e, out_p, out_kappa, out_beta, out_force, out_dlam, out_status, out_diss):
+def _cap_update_one(i, e, p, kappa, beta, du, kt, kn, m2, om, p_, h, kh, b, out_e, out_p, out_kappa,
+                    out_beta, out_force, out_dlam, out_status, out_diss):
     e0 = e[i, 0] + du[i, 0]
     e1 = e[i, 1] + du[i, 1]
     e2 = e[i, 2] + du[i, 2]
@@ -239,7 +247,8 @@ def _cap_update_one(i, e, p, kappa, beta, du, kt, kn, m2, om, p_, h, kh, b, out_
     N = -kn * e2
     out_beta[i] = beta[i]
     if N <= 0.0:
-        _open(i, e2, p, kappa, out_e, out_p, out_kappa, out_force, out_dlam, out_status, out_diss, e0, e1)
+        _open(i, e2, p, kappa, out_e, out_p, out_kappa, out_force, out_dlam, out_status, out_diss, e0,
+              e1)
         return
     A0 = p_ * beta[i] * (1.0 + h * (1.0 - np.exp(-kappa[i] / kh)))
     t2tr = T1 * T1 + T2 * T2
@@ -264,9 +273,12 @@ def _cap_update_one(i, e, p, kappa, beta, du, kt, kn, m2, om, p_, h, kh, b, out_
                + j13 * (j21 * j32 - j22 * j31))
         if det == 0.0 or not np.isfinite(det):
             break
-        d1 = -(r1 * (j22 * j33 - j23 * j32) - j12 * (r2 * j33 - j23 * r3) + j13 * (r2 * j32 - j22 * r3)) / det
-        d2 = -(j11 * (r2 * j33 - j23 * r3) - r1 * (j21 * j33 - j23 * j31) + j13 * (j21 * r3 - r2 * j31)) / det
-        d3 = -(j11 * (j22 * r3 - r2 * j32) - j12 * (j21 * r3 - r2 * j31) + r1 * (j21 * j32 - j22 * j31)) / det
+        d1 = -(r1 * (j22 * j33 - j23 * j32) - j12 * (r2 * j33 - j23 * r3)
+               + j13 * (r2 * j32 - j22 * r3)) / det
+        d2 = -(j11 * (r2 * j33 - j23 * r3) - r1 * (j21 * j33 - j23 * j31)
+               + j13 * (j21 * r3 - r2 * j31)) / det
+        d3 = -(j11 * (j22 * r3 - r2 * j32) - j12 * (j21 * r3 - r2 * j31)
+               + r1 * (j21 * j32 - j22 * j31)) / det
         alpha = 1.0
         accepted = False
         for _ in range(30):
@@ -308,17 +320,18 @@ def cap_update(e, p, kappa, beta, du, kt, kn, m, om, p_, h, kh, b,
     """
     m2 = m * m
     for i in prange(e.shape[0]):
-        _cap_update_one(i, e, p, kappa, beta, du, kt, kn, m2, om, p_, h, kh, b, out_e, out_p, out_kappa, out_beta, out_force, out_dlam, out_status, out_diss)
+        _cap_update_one(i, e, p, kappa, beta, du, kt, kn, m2, om, p_, h, kh, b, out_e, out_p, out_kappa,
+                        out_beta, out_force, out_dlam, out_status, out_diss)
 
 
 @njit(cache=True, error_model="numpy")
 def cap_update_serial(e, p, kappa, beta, du, kt, kn, m, om, p_, h, kh, b,
-               out_e, out_p, out_kappa, out_beta, out_force, out_dlam, out_status, out_diss):
+                      out_e, out_p, out_kappa, out_beta, out_force, out_dlam, out_status, out_diss):
     """Serial twin of :func:`cap_update` for small batches (no thread launch)."""
     m2 = m * m
     for i in range(e.shape[0]):
-        _cap_update_one(i, e, p, kappa, beta, du, kt, kn, m2, om, p_, h, kh, b, out_e, out_p, out_kappa, out_beta, out_force, out_dlam, out_status, out_diss)
-
+        _cap_update_one(i, e, p, kappa, beta, du, kt, kn, m2, om, p_, h, kh, b, out_e, out_p, out_kappa,
+                        out_beta, out_force, out_dlam, out_status, out_diss)
 
 
 def outputs(n: int) -> tuple:

@@ -317,7 +317,7 @@ def _law_from_table(table: dict):
         A = AreaHardening(**{k: table.pop(k) for k in ("p", "h", "kappa_h") if k in table})
         B = AreaGrowth(**{k: table.pop(k) for k in ("b",) if k in table})
         return EllipsoidCap(A=A, B=B, **table)
-    known = ("Coulomb", "EllipticOrthotropic", "Huber", "TransformedCoulomb")
+    known = ("Coulomb", "EllipticOrthotropic", "Huber", "TransformedCoulomb", "WedgeAsperity")
     if name not in known:
         raise FrictionRulesError(f"[model.law] type = {name!r}; constraint: one of {known + ('EllipsoidCap',)}")
     try:
@@ -336,7 +336,8 @@ def read_toml(file):
         kt = 100.0
         beta = 0.5                  # initial area fraction
         [model.law]
-        type = "EllipsoidCap"       # or Coulomb, EllipticOrthotropic, Huber, TransformedCoulomb
+        type = "EllipsoidCap"       # or Coulomb, EllipticOrthotropic, Huber, TransformedCoulomb,
+                                    # WedgeAsperity
         m = 0.6
         [model.hardening]           # optional SlipHardening of a protocol law
         h = 0.2

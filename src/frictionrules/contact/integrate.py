@@ -80,8 +80,11 @@ class LawSurface:
 
     :math:`\hat f(T, N, \kappa) = f(T, s(\kappa) N)`, :math:`\hat g = g(T, s(\kappa) N)`: the
     law's gradients and its SymPy-derived Hessians are used through the chain rule. At the
-    apex ``T = 0`` of a cone the Hessian of ``|T|`` is unbounded; there (and only there) its
+    apex ``T = 0`` of a cone the Hessian of ``|T|`` is unbounded; where it is not finite its
     entries are set to 0, the Hessian of the minimal-norm subgradient used by the gradients.
+
+    Laws are defined for ``N >= 0``; Newton iterates with ``N < 0`` are evaluated at ``N = 0``.
+    Returns that end at the apex of a cone are recognized by :meth:`apex_region`.
     """
 
     def __init__(self, law, hardening=None):
@@ -97,6 +100,26 @@ class LawSurface:
         s, _ = self.scale(q[:, 0])
         return self.law.limit(sigma[:, :2], s * np.maximum(sigma[:, 2], 0.0))
 
+    def apex_region(self, sigma_tr, q, Dv):
+        r"""Trial forces whose backward-Euler return ends at the apex ``σ = 0`` of a cone.
+
+        Near the apex of a positively homogeneous law the flow direction ∇g depends on the
+        direction only; approaching along the trial's tangential direction it is
+        :math:`\nabla g(T^{tr}, 0)`. Returning along it, N reaches 0 no later than T when
+        :math:`g_{,N} > 0` (compaction) and
+        :math:`N^{tr}/(k_n g_{,N}) \le |T^{tr}|/(k_t |g_{,T}|)`: then the return ends at the
+        apex. Only laws with ``f(0, 0) = 0`` (cones) have such an apex.
+        """
+        zero = np.zeros((1, 3))
+        if not np.all(self.limit(zero, q[:1]) == 0.0):
+            return np.zeros(len(sigma_tr), dtype=bool)
+        at_plane = sigma_tr.copy()
+        at_plane[:, 2] = 0.0
+        dg = self.evaluate(at_plane, q).dg
+        gt = np.hypot(dg[:, 0], dg[:, 1])
+        Tt = np.hypot(sigma_tr[:, 0], sigma_tr[:, 1])
+        return (dg[:, 2] > 0) & (sigma_tr[:, 2] * Dv[0] * gt <= Tt * Dv[2] * dg[:, 2])
+
     def evaluate(self, sigma, q) -> Local:
         T, N = sigma[:, :2], np.maximum(sigma[:, 2], 0.0)
         s, ds = self.scale(q[:, 0])
@@ -106,8 +129,9 @@ class LawSurface:
         gg = self.law.potential_gradient(T, Ns)
         with np.errstate(invalid="ignore", divide="ignore"):
             H = self.law.potential_hessian(T, Ns)
-        apex = (T[:, 0] == 0) & (T[:, 1] == 0)
-        H = np.where(apex[:, None, None] & ~np.isfinite(H), 0.0, H)
+        # |T| -> 0 at the apex of a cone: the Hessian of |T| is unbounded (inf or nan); use
+        # that of the minimal-norm subgradient, 0, as the gradients do.
+        H = np.where(np.isfinite(H), H, 0.0)
         S = np.stack((np.ones_like(s), np.ones_like(s), s), axis=-1)
         df = gf * S
         dfq = np.stack((gf[:, 2] * N * ds, np.zeros_like(s)), axis=-1)

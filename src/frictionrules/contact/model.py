@@ -200,7 +200,7 @@ class ContactModel:
 
     def initial_state(self, shape=(), beta=0.5) -> ContactState:
         """Virgin contacts: zero displacements, ``κ = 0`` and the given area fraction ``β``."""
-        shape = tuple(np.atleast_1d(shape)) if np.ndim(shape) else ((int(shape),) if shape != () else ())
+        shape = (int(shape),) if np.ndim(shape) == 0 else tuple(int(k) for k in shape)
         beta = check_scalar("beta", beta, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
         z = np.zeros(shape + (3,))
         return ContactState(z, z, np.zeros(shape), np.full(shape, beta))
@@ -354,12 +354,13 @@ def _finish(e_tr, p, sig, status, Dv):
     """Elastic and plastic parts consistent with the end forces, open contacts, dissipation.
 
     Plastic rows: ``δᵉ = E⁻¹σ`` and ``Δδᵖ = δᵉ_trial - δᵉ``; open rows: ``δtᵉ = 0`` (free
-    tangential motion goes to ``δtᵖ``), the normal gap stays elastic.
+    tangential motion goes to ``δtᵖ``), the normal gap ``δnᵉ >= 0`` stays elastic (after a
+    return to the apex, ``δnᵉ = 0``: the contact is just closed, without force).
     """
     open_ = status == OPEN
     sig = np.where(open_[:, None], 0.0, sig)
     e1 = np.stack((sig[:, 0] / Dv[0], sig[:, 1] / Dv[1], -sig[:, 2] / Dv[2]), axis=-1)
-    e1[open_, 2] = e_tr[open_, 2]
+    e1[open_, 2] = np.maximum(e_tr[open_, 2], 0.0)
     e1 = np.where((status == ELASTIC)[:, None], e_tr, e1)
     d = e_tr - e1
     p1 = p + d
@@ -369,7 +370,7 @@ def _finish(e_tr, p, sig, status, Dv):
 
 def _generic_step(surface, e, p, q, du, Dv, depth):
     """Backward-Euler step over a batch with the generic return mapping; substeps on failure."""
-    from .integrate import return_map
+    from .integrate import _TOL, return_map
     n = len(e)
     e_tr = e + du
     sig = _trial(e_tr, Dv)
@@ -388,9 +389,19 @@ def _generic_step(surface, e, p, q, du, Dv, depth):
             sig[ok], q1[ok], dlam[ok] = rr.sigma[rr.converged], rr.q[rr.converged], rr.dlam[rr.converged]
             dsig[ok] = rr.dsigma_dtrial[rr.converged]
             status[ok] = PLASTIC
-            # A return past the apex of a cone (N < 0) separates the contact.
-            status[ok[sig[ok, 2] < 0]] = OPEN
             failed = pl[~rr.converged]
+            # A return that would pass the apex of a cone ends there: zero force, the whole
+            # elastic displacement turned plastic, κ grown by its tangential part (4.5). So does
+            # one that ends at forces zero to the Newton tolerance of the trial.
+            tiny = np.linalg.norm(sig[ok], axis=-1) <= _TOL * np.linalg.norm(_trial(e_tr[ok], Dv), axis=-1)
+            apex = ok[(sig[ok, 2] < 0) | tiny]
+            if failed.size and hasattr(surface, "apex_region"):
+                # In the apex region, or with a trial N that is zero to the tolerance.
+                at_apex = (surface.apex_region(sig[failed], q[failed], Dv)
+                           | (sig[failed, 2] <= _TOL * np.linalg.norm(sig[failed], axis=-1)))
+                apex, failed = np.concatenate((apex, failed[at_apex])), failed[~at_apex]
+            status[apex] = OPEN
+            q1[apex, 0] = q[apex, 0] + np.hypot(e_tr[apex, 0], e_tr[apex, 1])
     e1, p1, sig, diss = _finish(e_tr, p, sig, status, Dv)
     if failed.size:
         if depth >= _MAX_SUBSTEP_DEPTH:

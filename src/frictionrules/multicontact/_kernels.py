@@ -344,3 +344,64 @@ def alart_curnier(r, u, mu, dil, rho):
         B2[a, 2, 1] = -h2 * du1 + rh * g21
         B2[a, 2, 2] = -h2 * du2 + rh * g22
     return phi, B1, B2
+
+
+@njit(cache=True)
+def jacobian_csr(indptr, indices, data, B1, B2):
+    """CSR arrays of :math:`J = B_1 + B_2 W` (``B_1``, ``B_2`` block diagonal, W in CSR).
+
+    Row ``3a + l`` of J has the union of the column patterns of W's rows ``3a..3a+2`` and the
+    diagonal block.
+    """
+    nc = B1.shape[0]
+    n = 3 * nc
+    mark = np.full(n, -1, dtype=np.int64)
+    cols = np.empty(n, dtype=np.int64)
+    counts = np.zeros(nc, dtype=np.int64)
+    for a in range(nc):  # pattern sizes
+        m = 0
+        for j in range(3 * a, 3 * a + 3):
+            mark[j] = a
+            m += 1
+        for i in range(3 * a, 3 * a + 3):
+            for k in range(indptr[i], indptr[i + 1]):
+                j = indices[k]
+                if mark[j] != a:
+                    mark[j] = a
+                    m += 1
+        counts[a] = m
+    jptr = np.zeros(n + 1, dtype=np.int64)
+    for a in range(nc):
+        for l in range(3):
+            jptr[3 * a + l + 1] = jptr[3 * a + l] + counts[a]
+    jind = np.empty(jptr[n], dtype=np.int32)
+    jdat = np.zeros(jptr[n])
+    pos = np.full(n, -1, dtype=np.int64)
+    for a in range(nc):
+        m = 0
+        for j in range(3 * a, 3 * a + 3):
+            cols[m] = j
+            pos[j] = m
+            m += 1
+        for i in range(3 * a, 3 * a + 3):
+            for k in range(indptr[i], indptr[i + 1]):
+                j = indices[k]
+                if pos[j] < 0:
+                    cols[m] = j
+                    pos[j] = m
+                    m += 1
+        for l in range(3):
+            start = jptr[3 * a + l]
+            for t in range(m):
+                jind[start + t] = cols[t]
+            for c in range(3):
+                jdat[start + c] += B1[a, l, c]
+            for mm in range(3):
+                coef = B2[a, l, mm]
+                if coef != 0.0:
+                    i = 3 * a + mm
+                    for k in range(indptr[i], indptr[i + 1]):
+                        jdat[start + pos[indices[k]]] += coef * data[k]
+        for t in range(m):
+            pos[cols[t]] = -1
+    return jptr, jind, jdat

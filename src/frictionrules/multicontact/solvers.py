@@ -52,11 +52,6 @@ def _nsgs(fr: _Frame, r, tol, max_iter, history):
     return r, it, err, hist_it[:nh]
 
 
-def _bsr(blocks, nc):
-    import scipy.sparse as sp
-    return sp.bsr_matrix((blocks, np.arange(nc), np.arange(nc + 1)), shape=(3 * nc, 3 * nc))
-
-
 def _rho(fr: _Frame, W):
     from . import _kernels as K
     D = K.diagonal_blocks(W.indptr.astype(np.int32), W.indices.astype(np.int32), W.data, fr.nc)
@@ -64,50 +59,68 @@ def _rho(fr: _Frame, W):
     return np.where(tr > 0, 1.0 / np.where(tr > 0, tr, 1.0), 1.0)
 
 
-def _newton_steps(fr: _Frame, W, q, r, rho, stop, max_iter, on_iter, fmap=None):
+def _lu_solve(JT, b, eye):
+    """Solve ``J x = b`` with SuperLU, given ``J^T`` in CSC (that is, J in CSR).
+
+    J has the (symmetric) sparsity of W plus its diagonal, which is nonzero for every contact
+    state, so the symmetric minimum-degree ordering on diagonal pivots is tried first (half the
+    fill of COLAMD with partial pivoting on the towers); if its residual is poor, partial
+    pivoting; if J is singular, a tiny diagonal shift; failing all, the steepest step ``b``.
+    """
+    import scipy.sparse.linalg as spla
+    norm_b = np.linalg.norm(b)
+    try:
+        x = spla.splu(JT, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0).solve(b, trans="T")
+        if np.all(np.isfinite(x)) and np.linalg.norm(JT.T @ x - b) <= 1e-10 * norm_b:
+            return x
+    except RuntimeError:
+        pass
+    for A in (JT, (JT + 1e-10 * max(1.0, abs(JT).max()) * eye).tocsc()):
+        try:
+            x = spla.splu(A).solve(b, trans="T")
+        except RuntimeError:
+            continue
+        if np.all(np.isfinite(x)):
+            return x
+    return b
+
+
+def _newton_steps(fr: _Frame, W, q, r, rho, stop, max_iter, on_iter):
     """Semismooth Newton iterations on ``(W, q)`` from ``r`` until ``stop(r, u)`` or ``max_iter``.
 
     ``on_iter(r, u)`` returns the error to record; returns ``(r, iterations)``.
     """
     import scipy.sparse as sp
-    import scipy.sparse.linalg as spla
 
     from . import _kernels as K
     n = 3 * fr.nc
     eye = sp.identity(n, format="csc")
-    fmap = K.alart_curnier if fmap is None else fmap
+    Wp, Wi = W.indptr.astype(np.int32), W.indices.astype(np.int32)
     u = W @ r + q
-    phi, B1, B2 = fmap(r, u, fr.mu, fr.d, rho)
+    phi, B1, B2 = K.alart_curnier(r, u, fr.mu, fr.d, rho)
     merit = 0.5 * float(phi @ phi)
     recent = [merit]  # non-monotone Armijo (Grippo-Lampariello-Lucidi) over the last 10 merits
     it = 0
     while it < max_iter and not stop(r, u):
         it += 1
-        J = (_bsr(B1, fr.nc) + _bsr(B2, fr.nc) @ W).tocsc()
-        try:
-            dx = spla.splu(J).solve(-phi)
-        except RuntimeError:
-            try:
-                shift = 1e-10 * max(1.0, abs(J).max())
-                dx = spla.splu((J + shift * eye).tocsc()).solve(-phi)
-            except RuntimeError:
-                dx = -phi
-        if not np.all(np.isfinite(dx)):
-            dx = -phi
+        jptr, jind, jdat = K.jacobian_csr(Wp, Wi, W.data, B1, B2)
+        # the CSR arrays of J are the CSC arrays of J^T: factorize J^T, solve with trans="T"
+        JT = sp.csc_matrix((jdat, jind, jptr), shape=(n, n))
+        dx = _lu_solve(JT, -phi, eye)
         alpha, accepted = 1.0, False
         while alpha > 1e-8:
             rn = r + alpha * dx
             un = W @ rn + q
-            phin, B1n, B2n = fmap(rn, un, fr.mu, fr.d, rho)
+            phin, B1n, B2n = K.alart_curnier(rn, un, fr.mu, fr.d, rho)
             mn = 0.5 * float(phin @ phin)
             if mn <= max(recent) - 2e-4 * alpha * merit:
                 accepted = True
                 break
             alpha *= 0.5
-        if not accepted:  # projection (fixed-point) step r <- P_K(r - rho u^)
+        if not accepted:  # projection (fixed-point) step r <- psi(r) = r - Phi(r)
             rn = r - phi
             un = W @ rn + q
-            phin, B1n, B2n = fmap(rn, un, fr.mu, fr.d, rho)
+            phin, B1n, B2n = K.alart_curnier(rn, un, fr.mu, fr.d, rho)
             mn = 0.5 * float(phin @ phin)
         r, u, phi, B1, B2, merit = rn, un, phin, B1n, B2n, mn
         recent = recent[-9:] + [merit]

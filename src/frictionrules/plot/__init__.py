@@ -20,8 +20,24 @@ from .configuration import (
 )
 # elastic-plastic contact, Fig. 10 (issue 4)
 from .contact import cap_hardening, cap_shear_curves, cap_surface
+# asperity mechanisms, Figs. 5-7 (issue 3)
+from .asperities import (
+    fig5_two_flank,
+    fig6a_limit_surface,
+    fig6b_potential_surface,
+    fig7_associated,
+    heightmap_polar,
+    limit_curve,
+)
 
 __all__ = [
+    # asperity mechanisms (issue 3)
+    "limit_curve",
+    "fig5_two_flank",
+    "fig6a_limit_surface",
+    "fig6b_potential_surface",
+    "fig7_associated",
+    "heightmap_polar",
     # laws (core)
     "coulomb_cone",
     "orthotropic_ellipse",

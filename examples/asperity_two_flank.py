@@ -1,0 +1,32 @@
+"""The paper's two-flank asperity (Fig. 5): mechanisms, concave corners, non-associated rule.
+
+Run: python examples/asperity_two_flank.py
+"""
+
+import numpy as np
+
+from frictionrules import TwoFlankAsperity
+
+
+def main():
+    law = TwoFlankAsperity(alpha1=np.pi / 3, alpha2=5 * np.pi / 6, mu=1.0)
+    for deg in (0.0, 60.0, 90.0, 150.0, 180.0):
+        d = np.array([np.cos(np.deg2rad(deg)), np.sin(np.deg2rad(deg))])
+        r = law.limit_load(d, Q=1.0)
+        print(f"load direction {deg:5.1f} deg: |T|/Q = {r.load:8.4f}, sliding facets "
+              f"{r.mechanism}, velocity {np.round(r.velocity, 4)}")
+    curve = law.limit_curve(Q=1.0, n=1440)
+    print("concave corners of the limit curve (Fig. 5):")
+    for c in curve.concave_corners:
+        print(f"  T/Q = ({c.T[0]:7.4f}, {c.T[1]:7.4f}), interior angle "
+              f"{np.rad2deg(c.interior):7.2f} deg")
+    fin = np.isfinite(curve.load)
+    print(f"largest angle between global slip and limit-surface normal: "
+          f"{np.rad2deg(curve.rule_angle[fin].max()):.1f} deg")
+    mu_y = float(law.friction_coefficient(np.pi / 2))
+    print(f"mu for sliding along the grooves: {mu_y:.4f}")
+    return mu_y
+
+
+if __name__ == "__main__":
+    main()
