@@ -2,7 +2,7 @@
 
 Usage (one command, from the repository root)::
 
-    /work/venv/bin/python benchmarks/fclib.py [--fclib DIR] [--only SUBSTRING] [--no-siconos]
+    python benchmarks/fclib.py [--fclib DIR] [--only SUBSTRING] [--no-siconos]
 
 For each file and each method (``nsgs``, ``newton``, ``prox``) it records the time to the
 tolerance (1e-8, or the best error Siconos reaches on that file where Siconos does not reach
@@ -217,7 +217,7 @@ def main(argv=None) -> int:
                 ours_s = f"{ours:.3e}" if isinstance(ours, float) else ""
                 rows.append(f"{f.name},{problem.nc},{name},{tgt:.1e},{it},{err:.3e},{int(bool(conv))},"
                             f"{sec:.6f},{info},{ours_s}")
-    write_text(args.out, "\n".join(rows) + "\n")
+            write_text(args.out, "\n".join(rows) + "\n")  # after every file: a cut run keeps it
     table = summary(rows)
     write_text(Path(args.out).with_suffix(".md"), table)
     print(table)

@@ -359,3 +359,20 @@ def test_cli_solve_bad_input_exit_code_2(tmp_path, capsys):
     (tmp_path / "bad.hdf5").write_bytes(b"not hdf5")
     assert main(["solve", str(tmp_path / "bad.hdf5")]) == 2
     assert "error" in capsys.readouterr().err
+
+
+def test_cli_solve_folder_reports_a_bad_file_and_goes_on(tmp_path, capsys):
+    """In a folder, a malformed file is reported on its row; the others are still solved and
+    the CSV (rewritten after every file) holds them all; the exit code says something failed."""
+    from frictionrules.cli import main
+    from frictionrules.io import write_fclib
+    write_fclib(tmp_path / "b_good.hdf5",
+                FrictionContactProblem(np.eye(3), [-1.0, 0.2, 0.0], [0.5]))
+    (tmp_path / "a_bad.hdf5").write_bytes(b"not hdf5")
+    csv = tmp_path / "table.csv"
+    assert main(["solve", str(tmp_path), "--csv", str(csv)]) == 1
+    out = capsys.readouterr().out
+    assert "a_bad.hdf5" in out and "error" in out and "b_good.hdf5" in out
+    rows = [line.split(",") for line in csv.read_text().splitlines()[1:]]
+    assert [r[0] for r in rows] == ["a_bad.hdf5", "b_good.hdf5"]
+    assert rows[0][5] == "0" and rows[1][5] == "1"

@@ -37,15 +37,24 @@ def run(args) -> int:
     print(f"{'file':45s} {'contacts':>8s} {'method':>7s} {'iter':>7s} {'error':>9s} {'time/s':>8s}")
     failed = 0
     for f in files:
-        problem = read_fclib(f)
-        s = solve(problem, method=args.method, tol=args.tol, max_iter=args.max_iter)
-        flag = "" if s.converged else "  (not converged)"
-        failed += not s.converged
-        print(f"{f.name:45s} {problem.nc:8d} {args.method:>7s} {s.iterations:7d} {s.error:9.2e} "
-              f"{s.seconds:8.3f}{flag}")
-        rows.append(f"{f.name},{problem.nc},{args.method},{s.iterations},{s.error:.3e},"
-                    f"{int(s.converged)},{s.seconds:.6f}")
+        try:
+            problem = read_fclib(f)
+        except FrictionRulesError as err:
+            if not path.is_dir():
+                raise
+            failed += 1                     # one bad file in a folder: report it, go on
+            print(f"{f.name:45s} error: {err}")
+            rows.append(f"{f.name},,{args.method},,,0,")
+        else:
+            s = solve(problem, method=args.method, tol=args.tol, max_iter=args.max_iter)
+            flag = "" if s.converged else "  (not converged)"
+            failed += not s.converged
+            print(f"{f.name:45s} {problem.nc:8d} {args.method:>7s} {s.iterations:7d} "
+                  f"{s.error:9.2e} {s.seconds:8.3f}{flag}")
+            rows.append(f"{f.name},{problem.nc},{args.method},{s.iterations},{s.error:.3e},"
+                        f"{int(s.converged)},{s.seconds:.6f}")
+        if args.csv:                        # rewritten atomically after every file:
+            write_text(args.csv, "\n".join(rows) + "\n")   # an interrupted run keeps its rows
     if args.csv:
-        write_text(args.csv, "\n".join(rows) + "\n")
         print(f"wrote {args.csv}")
     return 1 if failed else 0

@@ -351,7 +351,8 @@ def jacobian_csr(indptr, indices, data, B1, B2):
     """CSR arrays of :math:`J = B_1 + B_2 W` (``B_1``, ``B_2`` block diagonal, W in CSR).
 
     Row ``3a + l`` of J has the union of the column patterns of W's rows ``3a..3a+2`` and the
-    diagonal block.
+    diagonal block, in increasing column order; the index arrays are int32, as SuperLU takes
+    them, so SciPy neither sorts nor converts them.
     """
     nc = B1.shape[0]
     n = 3 * nc
@@ -370,7 +371,9 @@ def jacobian_csr(indptr, indices, data, B1, B2):
                     mark[j] = a
                     m += 1
         counts[a] = m
-    jptr = np.zeros(n + 1, dtype=np.int64)
+    if 3 * counts.sum() > 2**31 - 1:
+        raise ValueError("the Jacobian has more than 2**31 - 1 nonzeros; constraint: int32 indices")
+    jptr = np.zeros(n + 1, dtype=np.int32)
     for a in range(nc):
         for l in range(3):
             jptr[3 * a + l + 1] = jptr[3 * a + l] + counts[a]
@@ -390,12 +393,15 @@ def jacobian_csr(indptr, indices, data, B1, B2):
                     cols[m] = j
                     pos[j] = m
                     m += 1
+        cols[:m] = np.sort(cols[:m])
+        for t in range(m):
+            pos[cols[t]] = t
         for l in range(3):
             start = jptr[3 * a + l]
             for t in range(m):
                 jind[start + t] = cols[t]
             for c in range(3):
-                jdat[start + c] += B1[a, l, c]
+                jdat[start + pos[3 * a + c]] += B1[a, l, c]
             for mm in range(3):
                 coef = B2[a, l, mm]
                 if coef != 0.0:
