@@ -176,8 +176,8 @@ def _prox(fr: _Frame, r, tol, max_iter, history):
     sigma = _PROX_SIGMA0 * (float(np.mean(diag[diag > 0])) if np.any(diag > 0) else 1.0)
     eye = sp.identity(n, format="csr")
 
-    def error(r):
-        u = fr.W @ r + fr.q
+    def error(r, u=None):
+        u = fr.W @ r + fr.q if u is None else u
         e = np.sqrt(K.error_sum(r, u, fr.mu, fr.d))
         scale = max(fr.norm_q, np.linalg.norm(r), np.linalg.norm(u))
         return e / scale if scale > np.finfo(float).eps else e
@@ -191,9 +191,13 @@ def _prox(fr: _Frame, r, tol, max_iter, history):
         rho = _rho(fr, Ws)
         inner_tol = max(0.1 * tol, _PROX_INNER * err)
 
-        def stop(rr, uu, qs=qs):
+        def stop(rr, uu, qs=qs, rk=r, sigma=sigma):
             e = np.sqrt(K.error_sum(rr, uu, fr.mu, fr.d))
-            return e <= inner_tol * max(np.linalg.norm(qs), np.linalg.norm(rr), np.linalg.norm(uu), 1e-300)
+            if e <= inner_tol * max(np.linalg.norm(qs), np.linalg.norm(rr), np.linalg.norm(uu), 1e-300):
+                return True
+            # the outer problem's own error: u = W r + q = (Ws r + qs) - sigma (r - r_k); once it
+            # is within tol, further inner steps are wasted
+            return error(rr, uu - sigma * (rr - rk)) <= tol
 
         r_new, _ = _newton_steps(fr, Ws, qs, r.copy(), rho, stop, _PROX_INNER_MAX, lambda rr, uu: None)
         err_new = error(r_new)
