@@ -1,0 +1,130 @@
+"""Examples in ``examples/`` and the README's snippets are tested scripts: each runs and gives
+its headline numbers."""
+
+import importlib.util
+import re
+import runpy
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from test_io import FCLIB, needs_fclib
+
+ROOT = Path(__file__).resolve().parents[1]
+EXAMPLES = ROOT / "examples"
+
+
+def load(name):
+    """Import ``examples/<name>.py`` as a module (its ``main`` is called by the tests)."""
+    spec = importlib.util.spec_from_file_location(name, EXAMPLES / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+# ---- laws and README -----------------------------------------------------------------
+def test_example_orthotropic(tmp_path):
+    mod = runpy.run_path(str(ROOT / "examples" / "laws_orthotropic.py"))
+    deviation = mod["main"](out=str(tmp_path / "o.png"))
+    assert deviation["EllipticOrthotropic"] < 1e-9  # normality in the sliding plane
+    assert deviation["Huber"] > 5 and deviation["TransformedCoulomb"] > 5
+    assert (tmp_path / "o.png").exists()
+
+
+def test_readme_python_example_runs(capsys):
+    text = (ROOT / "README.md").read_text()
+    code = re.search(r"```python\n(.*?)```", text, re.S).group(1)
+    exec(compile(code, "README.md", "exec"), {})
+    out = capsys.readouterr().out
+    assert "ellipse" in out
+
+
+def test_readme_quick_start_has_exactly_two_commands():
+    text = (ROOT / "README.md").read_text()
+    block = re.search(r"## Quick start.*?```bash\n(.*?)```", text, re.S).group(1)
+    commands = [line for line in block.splitlines() if line.strip() and not line.startswith("#")]
+    assert len(commands) == 2
+    assert "frictionrules paper --out figures" in commands[0]
+    assert "pytest" in commands[1]
+    assert commands[1] in (ROOT / ".ci" / "run").read_text()  # CI runs exactly this command
+
+
+def test_every_example_is_tested():
+    text = Path(__file__).read_text()
+    for script in EXAMPLES.glob("*.py"):
+        assert f'"{script.stem}"' in text or f"{script.name}" in text, script.name
+
+
+@pytest.mark.parametrize("doc", ["docs/conventions.md", "docs/errata.md", "docs/laws.md",
+                                 "docs/asperities.md", "docs/configuration.md", "docs/contact.md",
+                                 "docs/multicontact.md", "benchmarks/README.md"])
+def test_docs_exist(doc):
+    assert (ROOT / doc).stat().st_size > 500
+
+
+# ---- asperities (§2) -----------------------------------------------------------------
+def test_asperity_two_flank_example(capsys):
+    mu_y = load("asperity_two_flank").main()
+    # distance from the origin to the line (2.12): (s1 + s2) / sqrt((c1 + c2)^2 + sin^2(a2 - a1))
+    a1, a2 = np.pi / 3, 5 * np.pi / 6
+    want = (np.sin(a1) + np.sin(a2)) / np.hypot(np.cos(a1) + np.cos(a2), np.sin(a2 - a1))
+    assert mu_y == pytest.approx(want, rel=1e-9)
+    assert "226.67" in capsys.readouterr().out
+
+
+def test_asperity_heightmap_fit_example():
+    rms = load("asperity_heightmap_fit").main(n=128)
+    assert rms < 0.05
+
+
+# ---- configuration softening (§3) ----------------------------------------------------
+def test_cylinder_softening_example():
+    out = load("configuration_cylinder_softening").main()
+    assert out["order"] == pytest.approx(1.0, abs=0.1)
+    assert out["limit_force"] == pytest.approx(np.tan(np.pi / 6 + np.arctan(0.3)), rel=1e-9)
+
+
+def test_sphere_pocket_example():
+    out = load("configuration_sphere_pocket").main()
+    assert out["ridge_peak"] == pytest.approx(0.7977, abs=1e-4)     # force at 60 deg, over two
+    assert out["over_one_peak"] == pytest.approx(np.tan(np.arcsin(3**-0.5) + np.arctan(0.3)))
+
+
+# ---- elastic-plastic contact (§4) ----------------------------------------------------
+def test_fig10_shear_example():
+    out = load("contact_fig10_shear").main()
+    assert out[0.4]["peak"] == pytest.approx(0.4803, abs=1e-3)
+    assert out[0.4]["final_ratio"] == pytest.approx(0.6, rel=0.01)
+    assert out[1.6]["final_ratio"] == pytest.approx(0.6, rel=0.01)
+
+
+def test_batched_update_example():
+    out = load("contact_batched_update").main(n=20_000)
+    assert out["plastic"] == 1.0
+    assert out["mu_min"] == pytest.approx(0.3, rel=1e-3) and out["mu_max"] == pytest.approx(0.6, rel=1e-3)
+
+
+def test_drive_toml_example_parses():
+    from frictionrules.contact.driver import read_toml
+    model, path, opts = read_toml(EXAMPLES / "contact_shear.toml")
+    assert len(path) == 410 and opts["beta"] == 0.5
+
+
+# ---- many contacts -------------------------------------------------------------------
+def test_wedge_stack_onset_is_wedge_limit_eq_2_2():
+    out = load("multicontact_wedge_stack").main()
+    assert out["onset"] == pytest.approx(out["closed_form"], rel=1e-9)
+
+
+def test_orthotropic_block_slip_obeys_inverse_relation_eq_1_13():
+    out = load("multicontact_orthotropic_block").main()
+    assert out["inverse_gap"] < 1e-12
+    assert abs(out["slip_deg"] - 45.0) > 30.0  # the slip is far from the push direction
+
+
+@needs_fclib
+def test_fclib_example_solves_capsules():
+    errors = load("multicontact_fclib").main(FCLIB / "Capsules-i125-1213.hdf5")
+    assert min(errors.values()) <= 1e-8
+    assert np.isfinite(list(errors.values())).all()
