@@ -171,6 +171,8 @@ def fig7_associated(ax=None):
         law = TwoFlankAsperity(**FIG7, local=local)
         limit_curve(law, ax=ax, box=6.0, potentials=False, corners=local == "non-associated",
                     style=style, label_prefix=f"{local}: ")
+    ax.set_xlim(-2.0, 4.0)                 # the corners and the both-flank lines, enlarged
+    ax.set_ylim(-2.5, 2.5)
     ax.set_title("Fig. 7  associated (solid) and non-associated (broken), $\\mu$ = 0.5")
     ax.legend(loc="lower left", fontsize=7)
     return ax
