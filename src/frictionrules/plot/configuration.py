@@ -72,7 +72,7 @@ def sphere_limit_evolution(ax=None, mu: float = 0.3):
 
     sph = SphereOnLayer(1.0, mu)
     path = sph.straight_path(np.radians(30.0), 1.0, 201)
-    ax = limit_evolution(sph, path, ax, title=f"Fig. 9: sphere on a layer sphere, mu = {mu}")
+    ax = limit_evolution(sph, path, ax, title=f"Fig. 9: sphere sliding over a layer sphere (+), mu = {mu}")
     ax.plot(1 / np.sqrt(3), 0.0, "k+", ms=10)
     ax.add_patch(__import__("matplotlib.patches", fromlist=["Circle"]).Circle(
         (1 / np.sqrt(3), 0.0), 0.5, fill=False, ls=":", color="0.5"))
