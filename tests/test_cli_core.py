@@ -69,3 +69,12 @@ def test_paper_writes_figures_and_table(tmp_path, capsys):
     assert not list(tmp_path.glob(".*"))  # no temporary files left behind
     rows = [r for r in out.splitlines() if "Tx/Q pushing up-slope" in r]
     assert float(rows[0].split()[-2]) == pytest.approx(np.tan(np.pi / 6 + np.arctan(0.5)), rel=1e-4)
+
+
+@pytest.mark.parametrize("argv", [["asperity", "--config"], ["configuration", "--config"], ["drive"]])
+def test_invalid_toml_exits_2_naming_the_file(argv, tmp_path, capsys):
+    bad = tmp_path / "bad.toml"
+    bad.write_text("mu = = 0.3\n")
+    assert main(argv + [str(bad)]) == 2
+    err = capsys.readouterr().err
+    assert "bad.toml" in err and "not valid TOML" in err and len(err.strip().splitlines()) == 1

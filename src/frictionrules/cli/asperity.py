@@ -50,16 +50,9 @@ def register(sub) -> None:
 
 
 def _settings(args) -> dict:
-    import tomllib
-
+    from .._toml import load_toml
     from ..errors import FrictionRulesError
-    conf = {}
-    if args.config:
-        with open(args.config, "rb") as fh:
-            try:
-                conf = tomllib.load(fh)
-            except tomllib.TOMLDecodeError as exc:
-                raise FrictionRulesError(f"--config {args.config!r}: {exc}") from exc
+    conf = load_toml(args.config) if args.config else {}
     chosen = [name for name, val in (("two-flank", args.two_flank), ("normals", args.normals),
                                      ("profile", args.profile), ("heightmap", args.heightmap))
               if val is not None]

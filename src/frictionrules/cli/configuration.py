@@ -52,12 +52,8 @@ def options(args) -> dict:
 
     opts = dict(_DEFAULTS)
     if args.config:
-        import tomllib
-        with open(args.config, "rb") as fh:
-            try:
-                data = tomllib.load(fh)
-            except tomllib.TOMLDecodeError as exc:
-                raise FrictionRulesError(f"{args.config}: not valid TOML ({exc})") from exc
+        from .._toml import load_toml
+        data = load_toml(args.config)
         unknown = sorted(set(data) - set(_KEYS))
         if unknown:
             raise FrictionRulesError(f"{args.config}: unknown keys {unknown}; known: {list(_KEYS)}")

@@ -352,15 +352,10 @@ def read_toml(file):
 
     ``options`` holds ``beta`` and the output file (or None).
     """
-    import tomllib
-
+    from .._toml import load_toml
     from .model import SlipHardening
     file = _FilePath(file)
-    try:
-        with open(file, "rb") as fh:
-            doc = tomllib.load(fh)
-    except tomllib.TOMLDecodeError as exc:
-        raise FrictionRulesError(f"{file}: not valid TOML ({exc})") from exc
+    doc = load_toml(file)
     model_t = dict(doc.get("model", {}))
     if "law" not in model_t:
         raise FrictionRulesError(f"{file}: missing [model.law] table")
