@@ -19,6 +19,15 @@ ELASTIC, PLASTIC, OPEN = 0, 1, 2
 
 
 @njit(inline="always")
+def _trial(i, e, du, kt, kn):
+    """Elastic trial of contact ``i``: displacements ``δᵉ + Δδ`` and forces (4.2), N > 0 closed."""
+    e0 = e[i, 0] + du[i, 0]
+    e1 = e[i, 1] + du[i, 1]
+    e2 = e[i, 2] + du[i, 2]
+    return e0, e1, e2, kt * e0, kt * e1, -kn * e2
+
+
+@njit(inline="always")
 def _open(i, e2, p, kappa, out_e, out_p, out_kappa, out_force, out_dlam, out_status, out_diss, t1, t2):
     out_e[i, 0] = 0.0
     out_e[i, 1] = 0.0
@@ -80,12 +89,7 @@ def _plastic(i, e0, e1, e2, T1, T2, N, kt, kn, dl, dkappa, p, kappa, out_e, out_
 @njit(inline="always", error_model="numpy")
 def _coulomb_update_one(i, e, p, kappa, du, kt, kn, mu, dilatant, out_e, out_p, out_kappa, out_force,
                         out_dlam, out_status, out_diss):
-    e0 = e[i, 0] + du[i, 0]
-    e1 = e[i, 1] + du[i, 1]
-    e2 = e[i, 2] + du[i, 2]
-    T1 = kt * e0
-    T2 = kt * e1
-    N = -kn * e2
+    e0, e1, e2, T1, T2, N = _trial(i, e, du, kt, kn)
     if N <= 0.0:
         _open(i, e2, p, kappa, out_e, out_p, out_kappa, out_force, out_dlam, out_status, out_diss, e0,
               e1)
@@ -135,12 +139,7 @@ def coulomb_update_serial(e, p, kappa, du, kt, kn, mu, dilatant,
 @njit(inline="always", error_model="numpy")
 def _elliptic_update_one(i, e, p, kappa, du, kt, kn, mu_x, mu_y, c, s, out_e, out_p, out_kappa,
                          out_force, out_dlam, out_status, out_diss):
-    e0 = e[i, 0] + du[i, 0]
-    e1 = e[i, 1] + du[i, 1]
-    e2 = e[i, 2] + du[i, 2]
-    T1 = kt * e0
-    T2 = kt * e1
-    N = -kn * e2
+    e0, e1, e2, T1, T2, N = _trial(i, e, du, kt, kn)
     if N <= 0.0:
         _open(i, e2, p, kappa, out_e, out_p, out_kappa, out_force, out_dlam, out_status, out_diss, e0,
               e1)
@@ -244,12 +243,7 @@ def _cap_residual(lam, kap, bet, t2tr, Ntr, kt, kn, m2, om, p_, h, kh, b, kap_n,
 @njit(inline="always", error_model="numpy")
 def _cap_update_one(i, e, p, kappa, beta, du, kt, kn, m2, om, p_, h, kh, b, out_e, out_p, out_kappa,
                     out_beta, out_force, out_dlam, out_status, out_diss):
-    e0 = e[i, 0] + du[i, 0]
-    e1 = e[i, 1] + du[i, 1]
-    e2 = e[i, 2] + du[i, 2]
-    T1 = kt * e0
-    T2 = kt * e1
-    N = -kn * e2
+    e0, e1, e2, T1, T2, N = _trial(i, e, du, kt, kn)
     out_beta[i] = beta[i]
     if N <= 0.0:
         _open(i, e2, p, kappa, out_e, out_p, out_kappa, out_force, out_dlam, out_status, out_diss, e0,
