@@ -522,7 +522,7 @@ class FacetSet(_FacetLaw):
         object.__setattr__(self, "mu", check_scalar("mu", self.mu, lo=0.0, lo_open=True))
         if self.local not in _LOCALS:
             raise FrictionRulesError(f"local = {self.local!r} violates local in {_LOCALS}")
-        V = _downward_velocity(n[_boundary_facets(n)], self.mu)
+        V = _downward_velocity(self.normal_array[self._sliding], self.mu)
         if V is not None:
             raise FrictionRulesError(
                 f"the facets (mu = {self.mu!r}) cannot carry the vertical load alone, the block "
@@ -540,8 +540,13 @@ class FacetSet(_FacetLaw):
         return np.array(self.normals)
 
     @functools.cached_property
+    def _sliding(self) -> np.ndarray:
+        """Indices of the facets that can slide (:func:`_boundary_facets`)."""
+        return _boundary_facets(self.normal_array)
+
+    @functools.cached_property
     def _geometry(self) -> _Geometry:
-        index = _boundary_facets(self.normal_array)
+        index = self._sliding
         n = self.normal_array[index]
 
         def build(associated, static):

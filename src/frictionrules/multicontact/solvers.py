@@ -44,6 +44,14 @@ class _Frame:
         self.norm_q = float(np.linalg.norm(self.q))
         self.csr = (self.W.indptr.astype(np.int32), self.W.indices.astype(np.int32), self.W.data)
 
+    def error(self, r, u=None) -> float:
+        """Siconos' error of ``r`` (``u = W r + q`` when not given): see :mod:`.error`."""
+        from . import _kernels as K
+        u = self.W @ r + self.q if u is None else u
+        e = np.sqrt(K.error_sum(r, u, self.mu, self.d))
+        scale = max(self.norm_q, np.linalg.norm(r), np.linalg.norm(u))
+        return e / scale if scale > np.finfo(float).eps else e
+
 
 def _nsgs(fr: _Frame, r, tol, max_iter, history):
     from . import _kernels as K
@@ -169,19 +177,11 @@ def _newton_steps(fr: _Frame, W, q, r, rho, stop, max_iter, on_iter):
 
 
 def _newton(fr: _Frame, r, tol, max_iter, history):
-    from . import _kernels as K
     rho = _rho(fr, fr.W)
-    state = {"err": np.inf, "k": 0}
-
-    def error(r, u):
-        err = np.sqrt(K.error_sum(r, u, fr.mu, fr.d))
-        scale = max(fr.norm_q, np.linalg.norm(r), np.linalg.norm(u))
-        return err / scale if scale > np.finfo(float).eps else err
-
-    state["err"] = error(r, fr.W @ r + fr.q)
+    state = {"err": fr.error(r), "k": 0}
 
     def on_iter(r, u):
-        state["err"] = error(r, u)
+        state["err"] = fr.error(r, u)
         history[state["k"]] = state["err"]
         state["k"] += 1
 
@@ -198,13 +198,7 @@ def _prox(fr: _Frame, r, tol, max_iter, history):
     sigma = _PROX_SIGMA0 * (float(np.mean(diag[diag > 0])) if np.any(diag > 0) else 1.0)
     eye = sp.identity(n, format="csr")
 
-    def error(r, u=None):
-        u = fr.W @ r + fr.q if u is None else u
-        e = np.sqrt(K.error_sum(r, u, fr.mu, fr.d))
-        scale = max(fr.norm_q, np.linalg.norm(r), np.linalg.norm(u))
-        return e / scale if scale > np.finfo(float).eps else e
-
-    err = error(r)
+    err = fr.error(r)
     it = 0
     while it < max_iter and err > tol:
         it += 1
@@ -219,10 +213,10 @@ def _prox(fr: _Frame, r, tol, max_iter, history):
                 return True
             # the outer problem's own error: u = W r + q = (Ws r + qs) - sigma (r - r_k); once it
             # is within tol, further inner steps are wasted
-            return error(rr, uu - sigma * (rr - rk)) <= tol
+            return fr.error(rr, uu - sigma * (rr - rk)) <= tol
 
         r_new, _ = _newton_steps(fr, Ws, qs, r.copy(), rho, stop, _PROX_INNER_MAX, lambda rr, uu: None)
-        err_new = error(r_new)
+        err_new = fr.error(r_new)
         if err_new < err:
             sigma *= _PROX_SHRINK
         else:
