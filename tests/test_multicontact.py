@@ -14,7 +14,7 @@ from frictionrules import (Coulomb, EllipticOrthotropic, FrictionContactProblem,
 from frictionrules.io import GlobalProblem
 from frictionrules.multicontact import fc3d_error, project_cone
 
-METHODS = ("nsgs", "newton", "prox")
+METHODS = ("nsgs", "newton", "prox", "admm")
 
 
 def cone_violation(mu, r, u, dilatancy=None, scale_r=1.0, scale_u=1.0):

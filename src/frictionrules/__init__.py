@@ -22,7 +22,8 @@ from .laws import (
 from .asperities import FacetSet, TwoFlankAsperity, fit, from_heightmap, from_profile
 # multi-contact problems and FCLIB files (issue 6); frictionrules.io is the FCLIB module
 from .io import read_fclib, write_fclib
-from .multicontact import FrictionContactProblem, Solution, solve
+from .multicontact import (ADMMOptions, FrictionContactProblem, IterationInfo, NewtonOptions,
+                           NSGSOptions, ProxOptions, Solution, solve)
 # elastic-plastic contact with hardening and softening (issue 4)
 from .contact import ContactModel, ContactState, DriveResult, EllipsoidCap, UpdateResult, drive
 # configuration softening: grains sliding over layers (issue 5)
@@ -65,6 +66,11 @@ __all__ = [
     "Solution",
     "read_fclib",
     "write_fclib",
+    "NSGSOptions",
+    "NewtonOptions",
+    "ProxOptions",
+    "ADMMOptions",
+    "IterationInfo",
     # elastic-plastic contact (issue 4)
     "ContactModel",
     "EllipsoidCap",

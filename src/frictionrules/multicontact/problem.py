@@ -261,12 +261,18 @@ class Solution:
         Final error (:func:`~frictionrules.multicontact.fc3d_error`, Siconos' measure).
     iterations : int
     converged : bool
-        ``error <= tol``.
+        ``error <= tol`` (and the reactions bounded: see ``reason``).
+    reason : str
+        Why the run stopped: ``"converged"``, ``"max_iter"``, ``"time_limit"``,
+        ``"callback"`` (the callback asked to stop) or ``"unbounded"`` (the reactions grow
+        without bound: no bounded solution, an infeasible problem). Only ``"converged"`` has
+        ``converged`` true.
     history : array
         Error after the iterations ``history_iterations`` (every iteration for ``newton`` and
         ``prox``; the sweeps where NSGS evaluated it).
     history_iterations : array of int
     method : str
+        The method that ran (for ``"auto"``, the stages joined by ``+``, e.g. ``"nsgs+prox"``).
     seconds : float
         Wall time of the solver (compilation of the kernels excluded when cached).
     """
@@ -280,3 +286,4 @@ class Solution:
     history_iterations: np.ndarray = field(repr=False, default_factory=lambda: np.zeros(0, int))
     method: str = ""
     seconds: float = 0.0
+    reason: str = ""

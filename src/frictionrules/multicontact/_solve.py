@@ -1,0 +1,195 @@
+r"""``solve(problem, method=...)``: the solvers of :class:`~frictionrules.FrictionContactProblem`.
+
+* ``"nsgs"`` — non-smooth Gauss–Seidel over the contacts with an exact local solver
+  (:mod:`._nsgs`); a sweep costs O(nnz(W)).
+* ``"newton"`` — semismooth Newton on the Alart–Curnier function (:mod:`._newton`).
+* ``"prox"`` — proximal point with an inner semismooth Newton (:mod:`._prox`).
+* ``"admm"`` — ADMM with De Saxcé's correction, adaptive penalty and Anderson acceleration
+  (:mod:`._admm`); the factorization of :math:`W + \rho I` is kept while :math:`\rho` is.
+* ``"auto"`` — a choice from the problem's size and structure (:func:`auto_plan`).
+
+Every method stops when Siconos' error (:func:`.error.fc3d_error`) is at most ``tol``, at
+``max_iter``, at ``time_limit``, when the callback asks, or when the reactions grow without
+bound; :attr:`Solution.reason` says which. BLAS runs on ``blas_threads`` threads inside the
+solver (threadpoolctl): with other jobs on the machine, threaded BLAS made the dense-LU path
+10–30 times slower on small problems.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import FrictionRulesError, check_finite, check_scalar
+from ._admm import run_admm
+from ._frame import _Frame, _Monitor
+from ._newton import run_newton
+from ._nsgs import run_nsgs
+from ._options import options_for
+from ._prox import run_prox
+from .problem import FrictionContactProblem, Solution
+
+__all__ = ["solve", "METHODS"]
+
+#: Method names accepted by :func:`solve`, with their default ``max_iter`` (for ``"auto"``,
+#: the iterations of all its stages together).
+METHODS = {"auto": 100000, "nsgs": 100000, "newton": 200, "prox": 200, "admm": 5000}
+
+_RUN = {"nsgs": run_nsgs, "newton": run_newton, "prox": run_prox, "admm": run_admm}
+
+
+@dataclass(frozen=True)
+class _Stage:
+    """One stage of ``"auto"``: ``method`` until ``tol`` (the caller's when None) or
+    ``max_iter``."""
+
+    method: str
+    tol: float | None
+    max_iter: int
+
+
+#: ``"auto"`` thresholds (docs/multicontact.md, "Choosing a method", has the measurements):
+#: problems of at most ``_AUTO_SMALL`` unknowns go to newton directly; larger ones start
+#: with ``_AUTO_WARM_ITER`` ADMM iterations to ``_AUTO_WARM_TOL`` (one factorization, cheap
+#: iterations), then prox.
+_AUTO_SMALL, _AUTO_WARM_TOL, _AUTO_WARM_ITER = 1200, 1e-4, 300
+
+
+def auto_plan(fr: _Frame, tol: float) -> tuple[_Stage, ...]:
+    """The stages ``"auto"`` runs on a problem (see the module constants)."""
+    n = 3 * fr.nc
+    if n <= _AUTO_SMALL:
+        return (_Stage("newton", None, METHODS["newton"]), _Stage("prox", None, METHODS["prox"]))
+    return (_Stage("admm", max(tol, _AUTO_WARM_TOL), _AUTO_WARM_ITER),
+            _Stage("prox", None, METHODS["prox"]))
+
+
+def _initial(problem, fr: _Frame, r0):
+    n = 3 * problem.nc
+    if r0 is None:
+        return np.zeros(n)
+    r = check_finite("r0", r0).ravel().astype(float)
+    if r.size != n:
+        raise FrictionRulesError(f"r0 has {r.size} entries; constraint: 3 nc = {n}")
+    if fr.P is not None:
+        import scipy.sparse.linalg as spla
+        r = spla.spsolve(fr.P.tocsc(), r)
+    return np.ascontiguousarray(r)
+
+
+def _blas_limits(threads):
+    """A context limiting BLAS to ``threads`` threads (None: leave BLAS alone)."""
+    import contextlib
+    if threads is None:
+        return contextlib.nullcontext()
+    from threadpoolctl import threadpool_limits
+    return threadpool_limits(limits=threads, user_api="blas")
+
+
+def solve(problem: FrictionContactProblem, method: str = "auto", tol: float = 1e-8,
+          max_iter: int | None = None, r0=None, *, options=None, callback=None,
+          time_limit: float | None = None, blas_threads: int | None = 1) -> Solution:
+    r"""Solve a frictional contact problem; the error is Siconos' (see :mod:`.error`).
+
+    Parameters
+    ----------
+    problem : FrictionContactProblem
+    method : {"auto", "nsgs", "newton", "prox", "admm"}
+        See the module docstring; ``"auto"`` chooses from the problem's size and structure.
+    tol : float
+        Stop when :func:`~frictionrules.multicontact.fc3d_error` ``<= tol``.
+    max_iter : int, optional
+        Sweeps (nsgs), Newton iterations (newton), outer proximal iterations (prox), ADMM
+        iterations (admm), all stages together (auto); defaults ``METHODS[method]``.
+    r0 : (3 nc,) array, optional
+        Initial reactions (zero by default), e.g. a previous solution or an FCLIB file's guess.
+    options : NSGSOptions, NewtonOptions, ProxOptions or ADMMOptions, optional
+        The schedule of ``method`` (its defaults when omitted; not with ``"auto"``).
+    callback : callable, optional
+        ``callback(info)`` with an :class:`~frictionrules.IterationInfo` after every iteration
+        (nsgs: after every sweep where it evaluates the error, at least every
+        ``NSGSOptions.chunk_seconds``); a true return stops the run (reason ``"callback"``).
+    time_limit : float, optional
+        Wall-clock seconds; the run stops after the iteration that passes it (reason
+        ``"time_limit"``).
+    blas_threads : int or None
+        BLAS threads inside the solver (threadpoolctl); None leaves BLAS as it is.
+
+    Returns
+    -------
+    Solution
+        ``converged`` is ``error <= tol`` with bounded reactions; ``reason`` says why the run
+        stopped; ``history[k]`` the error after iteration ``history_iterations[k]``.
+    """
+    import time
+    if not isinstance(problem, FrictionContactProblem):
+        raise FrictionRulesError(f"problem = {problem!r} is not a FrictionContactProblem")
+    if method not in METHODS:
+        raise FrictionRulesError(f"method = {method!r}; constraint: one of {sorted(METHODS)}")
+    tol = check_scalar("tol", tol, lo=0.0)
+    max_iter = METHODS[method] if max_iter is None else int(check_scalar("max_iter", max_iter, lo=1))
+    if time_limit is not None:
+        time_limit = check_scalar("time_limit", time_limit, lo=0.0, lo_open=True)
+    if blas_threads is not None:
+        blas_threads = int(check_scalar("blas_threads", blas_threads, lo=1))
+    if callback is not None and not callable(callback):
+        raise FrictionRulesError(f"callback = {callback!r} is not callable")
+    if method == "auto" and options is not None:
+        raise FrictionRulesError("options: constraint: none with method = 'auto' (name a method)")
+    opts = None if method == "auto" else options_for(method, options)
+    fr = _Frame(problem)
+    r = _initial(problem, fr, r0)
+    t0 = time.perf_counter()
+    with _blas_limits(blas_threads):
+        mon = _Monitor(fr, tol, time_limit, callback)
+        if method == "auto":
+            r, it, ran = _run_auto(fr, r, tol, max_iter, mon)
+        else:
+            r, it = _run(method, fr, r, max_iter, mon, opts)
+            ran = method
+    seconds = time.perf_counter() - t0
+    r = r if fr.P is None else fr.P @ r
+    u = problem.velocity(r)
+    from .error import fc3d_error
+    err = fc3d_error(problem, r, u)
+    bounded = bool(np.linalg.norm(r) <= fr.r_bound)
+    reason = mon.reason or "max_iter"
+    if err <= tol and bounded:
+        reason = "converged"
+    elif reason == "converged":  # the monitor saw tol in the solver frame but not here
+        reason = "max_iter" if bounded else "unbounded"
+    return Solution(r=r, u=u, error=err, iterations=int(it), converged=reason == "converged",
+                    history=np.array(mon.errors), history_iterations=np.array(mon.iterations, dtype=int),
+                    method=ran, seconds=seconds, reason=reason)
+
+
+def _run(method, fr, r, max_iter, mon, opts):
+    if method == "nsgs":
+        r = np.array(r, dtype=float)
+        return r, run_nsgs(fr, r, max_iter, mon, opts)
+    if fr.error(r) <= mon.tol:
+        mon.record(method, 0, r, fr.error(r))
+        return r, 0
+    return _RUN[method](fr, r, max_iter, mon, opts)
+
+
+def _run_auto(fr, r, tol, max_iter, mon):
+    """The stages of :func:`auto_plan`, each warm-started from the last; returns
+    ``(r, iterations, "stage+stage")``."""
+    total, ran = 0, []
+    for stage in auto_plan(fr, tol):
+        budget = min(stage.max_iter, max_iter - total)
+        if budget <= 0:
+            break
+        mon.tol = tol if stage.tol is None else stage.tol
+        mon.reason, mon.offset = "", total
+        r, it = _run(stage.method, fr, r, budget, mon, options_for(stage.method, None))
+        total += it
+        ran.append(stage.method)
+        if mon.reason in ("time_limit", "callback", "unbounded") or (mon.reason == "converged" and mon.tol <= tol):
+            break
+    mon.tol = tol
+    if mon.reason == "converged" and mon.errors and mon.errors[-1] > tol:
+        mon.reason = "max_iter"
+    return r, total, "+".join(ran)
