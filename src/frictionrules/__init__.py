@@ -23,7 +23,8 @@ from .asperities import FacetSet, TwoFlankAsperity, fit, from_heightmap, from_pr
 # multi-contact problems and FCLIB files (issue 6); frictionrules.io is the FCLIB module
 from .io import read_fclib, write_fclib
 from .multicontact import (ADMMOptions, FrictionContactProblem, IterationInfo, NewtonOptions,
-                           NSGSOptions, ProxOptions, Solution, solve)
+                           NSGSOptions, ProxOptions, Solution, SolveRecord, solve, solve_many)
+from ._parallel import SweepPoint, sweep
 # elastic-plastic contact with hardening and softening (issue 4)
 from .contact import ContactModel, ContactState, DriveResult, EllipsoidCap, UpdateResult, drive
 # configuration softening: grains sliding over layers (issue 5)
@@ -71,6 +72,10 @@ __all__ = [
     "ProxOptions",
     "ADMMOptions",
     "IterationInfo",
+    "solve_many",
+    "SolveRecord",
+    "sweep",
+    "SweepPoint",
     # elastic-plastic contact (issue 4)
     "ContactModel",
     "EllipsoidCap",

@@ -29,7 +29,8 @@ import numpy as np
 
 from .errors import FrictionRulesError
 
-__all__ = ["GlobalProblem", "read_fclib", "read_fclib_global", "write_fclib", "write_fclib_global"]
+__all__ = ["GlobalProblem", "read_fclib", "read_fclib_global", "write_fclib", "write_fclib_global",
+           "read_guess", "read_solution", "write_solution"]
 
 
 @dataclass(frozen=True)
@@ -251,6 +252,7 @@ def write_fclib(path, problem, *, solution=None, title: str = "", description: s
         h5[f"{g}/vectors/mu"] = mu
         _write_info(h5, g, title or problem.title, description)
         _write_solution(h5, solution)
+    _umask_permissions(path)
     return Path(path)
 
 
@@ -269,4 +271,63 @@ def write_fclib_global(path, problem: GlobalProblem, *, solution=None) -> Path:
         h5[f"{g}/vectors/mu"] = np.asarray(problem.mu, dtype=float)
         _write_info(h5, g, problem.title, problem.description)
         _write_solution(h5, solution)
+    _umask_permissions(path)
     return Path(path)
+
+
+# ---- warm starts and saved solutions ---------------------------------------------------------
+def read_guess(path, number: int = 1):
+    """The reactions ``/guesses/<number>/r`` of an FCLIB file (a simulation's previous step),
+    or None when the file holds no guess.
+
+    Raises
+    ------
+    FrictionRulesError
+        A guess of the wrong size or with non-finite entries (the message names it).
+    """
+    with _open(path) as h5:
+        group = f"guesses/{int(number)}/r"
+        if group not in h5:
+            return None
+        g = "fclib_local" if "fclib_local" in h5 else "fclib_global"
+        size = None
+        if f"{g}/vectors/mu" in h5:
+            size = 3 * h5[f"{g}/vectors/mu"].shape[0]
+        return _dataset(h5, group, size=size)
+
+
+def write_solution(path, solution, *, source: str = "", tol: float | None = None) -> Path:
+    """Write a :class:`~frictionrules.Solution` to an HDF5 file atomically: ``/solution/r``,
+    ``/solution/u`` and attributes ``error, iterations, converged, reason, method, seconds``
+    (and ``source``, ``tol`` when given). :func:`read_solution` reads it back, and
+    ``frictionrules solve --warm-start`` starts from it.
+    """
+    import h5py
+
+    from ._atomic import atomic_path
+    with atomic_path(path) as tmp, h5py.File(tmp, "w") as h5:
+        _write_solution(h5, solution)
+        attrs = h5["solution"].attrs
+        attrs["error"], attrs["iterations"] = float(solution.error), int(solution.iterations)
+        attrs["converged"], attrs["reason"] = bool(solution.converged), str(solution.reason)
+        attrs["method"], attrs["seconds"] = str(solution.method), float(solution.seconds)
+        attrs["source"] = str(source)
+        if tol is not None:
+            attrs["tol"] = float(tol)
+    _umask_permissions(path)
+    return Path(path)
+
+
+def read_solution(path, size: int | None = None) -> np.ndarray:
+    """The reactions ``/solution/r`` of a file written by :func:`write_solution` (or any FCLIB
+    file's ``/solution/r``); ``size`` checks their number."""
+    with _open(path) as h5:
+        return _dataset(h5, "solution/r", size=size)
+
+
+def _umask_permissions(path) -> None:
+    """Give a file written through a temporary file the mode ``0o666 & ~umask``."""
+    import os
+    mask = os.umask(0)
+    os.umask(mask)
+    os.chmod(path, 0o666 & ~mask)

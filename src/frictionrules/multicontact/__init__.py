@@ -9,9 +9,10 @@ imported when a solver first runs.
 """
 
 from ._options import ADMMOptions, IterationInfo, NewtonOptions, NSGSOptions, ProxOptions
+from ._many import SolveRecord, solve_many
 from ._solve import METHODS, solve
 from .error import fc3d_error, project_cone
 from .problem import FrictionContactProblem, Solution
 
 __all__ = ["FrictionContactProblem", "Solution", "solve", "fc3d_error", "project_cone", "METHODS",
-           "NSGSOptions", "NewtonOptions", "ProxOptions", "ADMMOptions", "IterationInfo"]
+           "NSGSOptions", "NewtonOptions", "ProxOptions", "ADMMOptions", "IterationInfo", "solve_many", "SolveRecord"]
