@@ -80,18 +80,17 @@ class _Monitor:
     def record(self, method: str, iteration: int, r, err: float) -> bool:
         self.errors.append(float(err))
         self.iterations.append(self.offset + int(iteration))
-        if err <= self.tol:
-            self.reason = "converged"
-            return True
-        if not np.isfinite(err) or np.linalg.norm(r) > self.fr.r_bound:
-            self.reason = "unbounded"
-            return True
+        stop = False
         if self.callback is not None:
             from ._options import IterationInfo
-            if self.callback(IterationInfo(method, int(iteration), float(err), self.elapsed())):
-                self.reason = "callback"
-                return True
-        if self.out_of_time():
+            stop = bool(self.callback(IterationInfo(method, self.offset + int(iteration), float(err),
+                                                    self.elapsed())))
+        if err <= self.tol:
+            self.reason = "converged"
+        elif not np.isfinite(err) or np.linalg.norm(r) > self.fr.r_bound:
+            self.reason = "unbounded"
+        elif stop:
+            self.reason = "callback"
+        elif self.out_of_time():
             self.reason = "time_limit"
-            return True
-        return False
+        return bool(self.reason)
