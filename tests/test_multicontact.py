@@ -483,3 +483,24 @@ def test_cli_solve_save_warm_start_time_limit_and_resume(tmp_path, capsys):
     assert main(["solve", str(tmp_path), "--method", "nsgs", "--max-iter", "50", "--csv", str(csv),
                  "--restart"]) == 0
     assert "(from --csv)" not in capsys.readouterr().out
+
+
+# ---- the associated (dilatant, convex) relaxation ----------------------------------------------
+def test_associated_relaxation_single_contact_eq_1_5_vs_eq_1_6():
+    """W = I, q = (-1, 2, 0), mu = 0.5. Coulomb (1.5): r = (1, -0.5, 0), u = (0, 1.5, 0),
+    dissipation (1.7) D = mu r_N |u_T| = 0.75. Associated (1.6): u_N = mu |u_T|, r_N = 1.6,
+    u = (0.6, 1.2, 0): the friction work 0.8 * 1.2 = 0.96 lifts the normal force, 1.6 * 0.6,
+    and D = 0."""
+    from frictionrules import compare_relaxation
+    p = single(np.eye(3), [-1.0, 2.0, 0.0], 0.5)
+    assert np.all(p.associated().dilatancy == 1.0) and np.all(p.dilatancy == 0.0)
+    c = compare_relaxation(p, method="nsgs", tol=1e-13)
+    np.testing.assert_allclose(c.associated.r, [1.6, -0.8, 0.0], atol=1e-10)
+    assert c.dissipation_coulomb == pytest.approx(0.75, rel=1e-10)
+    assert c.dissipation_associated == pytest.approx(0.0, abs=1e-10)
+    assert c.friction_work_associated == pytest.approx(0.96, rel=1e-10)
+    assert c.normal_velocity_coulomb == pytest.approx(0.0, abs=1e-12)
+    assert c.normal_velocity_associated == pytest.approx(0.6, rel=1e-10)
+    assert c.sliding_coulomb == c.sliding_associated == 1
+    assert c.coulomb_error_of_associated == pytest.approx(fc3d_error(p, c.associated.r)) > 0.01
+    assert c.warm_started.converged

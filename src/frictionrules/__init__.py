@@ -23,7 +23,8 @@ from .asperities import FacetSet, TwoFlankAsperity, fit, from_heightmap, from_pr
 # multi-contact problems and FCLIB files (issue 6); frictionrules.io is the FCLIB module
 from .io import read_fclib, write_fclib
 from .multicontact import (ADMMOptions, FrictionContactProblem, IterationInfo, NewtonOptions,
-                           NSGSOptions, ProxOptions, Solution, SolveRecord, solve, solve_many)
+                           NSGSOptions, ProxOptions, RelaxationComparison, Solution, SolveRecord,
+                           compare_relaxation, solve, solve_many)
 from ._parallel import SweepPoint, sweep
 # elastic-plastic contact with hardening and softening (issue 4)
 from .contact import ContactModel, ContactState, DriveResult, EllipsoidCap, UpdateResult, drive
@@ -76,6 +77,8 @@ __all__ = [
     "SolveRecord",
     "sweep",
     "SweepPoint",
+    "compare_relaxation",
+    "RelaxationComparison",
     # elastic-plastic contact (issue 4)
     "ContactModel",
     "EllipsoidCap",

@@ -10,9 +10,11 @@ imported when a solver first runs.
 
 from ._options import ADMMOptions, IterationInfo, NewtonOptions, NSGSOptions, ProxOptions
 from ._many import SolveRecord, solve_many
+from ._relaxation import RelaxationComparison, compare_relaxation
 from ._solve import METHODS, solve
 from .error import fc3d_error, project_cone
 from .problem import FrictionContactProblem, Solution
 
 __all__ = ["FrictionContactProblem", "Solution", "solve", "fc3d_error", "project_cone", "METHODS",
-           "NSGSOptions", "NewtonOptions", "ProxOptions", "ADMMOptions", "IterationInfo", "solve_many", "SolveRecord"]
+           "NSGSOptions", "NewtonOptions", "ProxOptions", "ADMMOptions", "IterationInfo", "solve_many", "SolveRecord",
+           "compare_relaxation", "RelaxationComparison"]
