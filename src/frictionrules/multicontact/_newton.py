@@ -75,7 +75,10 @@ def newton_direction(JT, b, eye, opts: NewtonOptions, lm: bool = False):
                     return x
             except (np.linalg.LinAlgError, ValueError):
                 pass
-        return np.linalg.solve(J.T @ J + lam * np.eye(n), J.T @ b)
+        try:
+            return np.linalg.solve(J.T @ J + lam * np.eye(n), J.T @ b)
+        except np.linalg.LinAlgError:       # lam below J^T J's rounding: least squares
+            return np.linalg.lstsq(J, b, rcond=None)[0]
     J = JT.T
     attempts = ({"permc_spec": "MMD_AT_PLUS_A", "diag_pivot_thresh": 0.0, "options": {"SymmetricMode": True}},
                 {})

@@ -43,7 +43,8 @@ class RelaxationComparison:
         Largest normal velocity :math:`u_N` at a loaded contact (:math:`r_N > 10^{-6}\max r_N`): zero for
         Coulomb, :math:`\mu|u_T|` at the sliding contacts of the associated answer.
     sliding_coulomb, sliding_associated : int
-        Loaded contacts that slide (:math:`|u_T| > 10^{-6}\max_a |u_a|`).
+        Loaded contacts that slide: on the cone's boundary, :math:`|u_T|` above :math:`10^{-6}`
+        of the velocity scale :math:`\max(|q|_\infty, |u|_\infty)`.
     warm_started : Solution
         Coulomb's problem solved from the associated answer.
     """
@@ -61,13 +62,16 @@ class RelaxationComparison:
     warm_started: Solution
 
 
-def _loaded_stats(s: Solution):
+def _loaded_stats(problem: FrictionContactProblem, s: Solution):
+    """Largest u_N at a loaded contact, and the loaded contacts that slide: on the cone's
+    boundary, with |u_T| above 1e-6 of the velocity scale max(|q|, |u|) (max norms)."""
     r, u = s.r.reshape(-1, 3), s.u.reshape(-1, 3)
     loaded = r[:, 0] > 1e-6 * max(float(np.max(r[:, 0], initial=0.0)), np.finfo(float).tiny)
-    ut = np.linalg.norm(u[:, 1:], axis=1)
-    scale = float(np.max(np.abs(u))) if u.size else 0.0
+    ut, rt = np.linalg.norm(u[:, 1:], axis=1), np.linalg.norm(r[:, 1:], axis=1)
+    scale = max(float(np.max(np.abs(problem.q), initial=0.0)), float(np.max(np.abs(u), initial=0.0)))
+    on_cone = rt >= problem.mu_bar * r[:, 0] * (1.0 - 1e-6)
     un = float(np.max(u[loaded, 0])) if loaded.any() else 0.0
-    return un, int(np.sum(loaded & (ut > 1e-6 * scale)))
+    return un, int(np.sum(loaded & on_cone & (ut > 1e-6 * scale)))
 
 
 def compare_relaxation(problem: FrictionContactProblem, method: str = "auto", tol: float = 1e-8,
@@ -81,8 +85,8 @@ def compare_relaxation(problem: FrictionContactProblem, method: str = "auto", to
     relaxed = problem.associated()
     assoc = solve(relaxed, method=method, tol=tol, **solve_kwargs)
     warm = solve(problem, method=method, tol=tol, r0=assoc.r, **solve_kwargs)
-    un_c, sl_c = _loaded_stats(coulomb)
-    un_a, sl_a = _loaded_stats(assoc)
+    un_c, sl_c = _loaded_stats(problem, coulomb)
+    un_a, sl_a = _loaded_stats(problem, assoc)
     ra, ua = assoc.r.reshape(-1, 3), assoc.u.reshape(-1, 3)
     return RelaxationComparison(
         coulomb=coulomb, associated=assoc,
