@@ -148,9 +148,11 @@ import runpy, sys
 import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
+from pathlib import Path
 runpy.run_path(sys.argv[1], run_name="__main__")
-for i, num in enumerate(plt.get_fignums()):
-    plt.figure(num).savefig(f"_open_figure_{i}.png", dpi=100, bbox_inches="tight")
+if not any(Path(".").rglob("*.png")):  # the figures the script drew but did not save
+    for i, num in enumerate(plt.get_fignums()):
+        plt.figure(num).savefig(f"figure_{i}.png", dpi=100, bbox_inches="tight")
 """
 
 
@@ -163,7 +165,7 @@ def _run_example(script: Path) -> tuple[str, str, list[Path], Path]:
                               capture_output=True, text=True, timeout=EXAMPLE_TIMEOUT)
     except subprocess.TimeoutExpired:
         return "timeout", "", [], folder
-    figures = sorted(p for p in folder.rglob("*") if p.suffix in (".png", ".svg"))
+    figures = sorted(folder.rglob("*.png"))
     if proc.returncode == 0:
         return "ok", proc.stdout, figures, folder
     last = (proc.stderr.strip().splitlines() or [""])[-1]
@@ -178,12 +180,14 @@ def _needs_missing_data(script: Path) -> bool:
 
 
 def _example_page(script: Path, status: str, output: str, figures: list[str]) -> str:
-    doc = ast.get_docstring(ast.parse(script.read_text())) or script.stem
+    tree = ast.parse(script.read_text())
+    doc = ast.get_docstring(tree) or script.stem
     title, _, rest = doc.partition("\n")
+    first = tree.body[1].lineno if ast.get_docstring(tree) and len(tree.body) > 1 else 1
     rel = os.path.relpath(script, DOCS / "gallery")
     parts = [f"# {title.strip().rstrip('.')}", "", rest.strip(), "",
-             f"Source: `examples/{script.name}` — run it with `python examples/{script.name}`.", "",
-             f"```{{literalinclude}} {rel}", ":language: python", "```", ""]
+             f"Source: `examples/{script.name}` (below without its docstring).", "",
+             f"```{{literalinclude}} {rel}", ":language: python", f":lines: {first}-", "```", ""]
     if status == "ok":
         parts += ["## Output", "", "```text", output.rstrip() or "(prints nothing)", "```", ""]
         for fig in figures:
@@ -235,9 +239,22 @@ _LITERAL = re.compile(r"(``.+?``|:\w+:`[^`]+`|`[^`]+`_?)")
 _BARS = re.compile(r"(?<![\\|\w])\|(?=[^\s|])([^|`\n]*?[^\s|\\])\|(?![\w|])")
 
 
+_DIRECTIVE = re.compile(r"^\s*\.\. [\w:-]+::")
+
+
 def escape_absolute_values(app, what, name, obj, options, lines) -> None:
-    """Write ``|x|`` of the docstrings' prose as ``\\|x\\|`` so docutils keeps it as text."""
+    """Write ``|x|`` of the docstrings' prose as ``\\|x\\|`` so docutils keeps it as text;
+    directives (``.. math::``) and literal blocks (after ``::``) are left as they are."""
+    block = None  # indentation of the directive or paragraph whose indented block is skipped
     for i, line in enumerate(lines):
+        indent = len(line) - len(line.lstrip())
+        if block is not None and (not line.strip() or indent > block):
+            continue
+        block = None
+        if _DIRECTIVE.match(line) or line.rstrip().endswith("::"):
+            block = indent
+            if _DIRECTIVE.match(line):
+                continue
         parts = _LITERAL.split(line)
         parts[::2] = [_BARS.sub(r"\\|\1\\|", part) for part in parts[::2]]
         lines[i] = "".join(parts)
