@@ -348,7 +348,7 @@ def test_cli_solve_file_and_folder(tmp_path, capsys):
     assert "p0.hdf5" in out and "contacts" in out
     csv = tmp_path / "out" / "table.csv"
     assert main(["solve", str(tmp_path), "--method", "prox", "--csv", str(csv)]) == 0
-    lines = csv.read_text().splitlines()
+    lines = [line for line in csv.read_text().splitlines() if not line.startswith("#")]
     assert lines[0].startswith("file,contacts,method") and len(lines) == 3
     assert all(line.split(",")[5] == "1" for line in lines[1:])
 
@@ -373,7 +373,7 @@ def test_cli_solve_folder_reports_a_bad_file_and_goes_on(tmp_path, capsys):
     assert main(["solve", str(tmp_path), "--csv", str(csv)]) == 1
     out = capsys.readouterr().out
     assert "a_bad.hdf5" in out and "error" in out and "b_good.hdf5" in out
-    rows = [line.split(",") for line in csv.read_text().splitlines()[1:]]
+    rows = [line.split(",") for line in csv.read_text().splitlines()[1:] if not line.startswith("#")]
     assert [r[0] for r in rows] == ["a_bad.hdf5", "b_good.hdf5"]
     assert rows[0][5] == "0" and rows[1][5] == "1" and rows[0][6] == "bad input"
 

@@ -76,14 +76,19 @@ def test_table_written_as_results_arrive_and_resumed(folder, tmp_path):
     out = tmp_path / "table" / "t.csv"
     seen = []
     first = solve_many(sorted(folder.glob("*.hdf5"))[:3], method="nsgs", out=out, on_result=seen.append)
-    assert len(seen) == 3 and len(out.read_text().splitlines()) == 4
+    assert len(seen) == 3 and len(data_lines(out)) == 4
+    assert "# units: " in out.read_text() and "frictionrules" in out.read_text()   # provenance
     assert (out.stat().st_mode & 0o777) == 0o666 & ~_umask()
     again = solve_many(folder, method="nsgs", out=out)
     assert [r.resumed for r in again] == [True] * 3 + [False] * 2
     assert [r.error for r in again[:3]] == pytest.approx([r.error for r in first], rel=1e-6)
-    assert len(out.read_text().splitlines()) == 6
+    assert len(data_lines(out)) == 6
     other = solve_many(folder, method="admm", out=tmp_path / "t2.csv")  # another method: solved
     assert not any(r.resumed for r in other)
+
+
+def data_lines(path):
+    return [line for line in path.read_text().splitlines() if not line.startswith("#")]
 
 
 def _umask() -> int:

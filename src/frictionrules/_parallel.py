@@ -24,15 +24,9 @@ from .errors import FrictionRulesError
 
 __all__ = ["sweep", "SweepPoint", "local_cluster", "dask_client"]
 
-_DASK_HINT = "install the extra: pip install 'frictionrules[dask]'"
-
-
 def _distributed():
-    try:
-        import distributed
-    except ImportError as exc:
-        raise FrictionRulesError(f"Dask's 'distributed' is not installed; {_DASK_HINT}") from exc
-    return distributed
+    from ._optional import require
+    return require("distributed", extra="dask", purpose="a Dask cluster")
 
 
 @contextlib.contextmanager

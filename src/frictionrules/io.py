@@ -243,7 +243,7 @@ def write_fclib(path, problem, *, solution=None, title: str = "", description: s
     """
     h5py = require("h5py", extra="hdf5")
 
-    from ._atomic import atomic_path
+    from ._output import atomic_path
     mu = problem.coulomb_mu()
     with atomic_path(path) as tmp, h5py.File(tmp, "w") as h5:
         g = "fclib_local"
@@ -253,7 +253,6 @@ def write_fclib(path, problem, *, solution=None, title: str = "", description: s
         h5[f"{g}/vectors/mu"] = mu
         _write_info(h5, g, title or problem.title, description)
         _write_solution(h5, solution)
-    _umask_permissions(path)
     return Path(path)
 
 
@@ -261,7 +260,7 @@ def write_fclib_global(path, problem: GlobalProblem, *, solution=None) -> Path:
     """Write a :class:`GlobalProblem` (``/fclib_global``, M and H in CSC) atomically."""
     h5py = require("h5py", extra="hdf5")
 
-    from ._atomic import atomic_path
+    from ._output import atomic_path
     with atomic_path(path) as tmp, h5py.File(tmp, "w") as h5:
         g = "fclib_global"
         h5[f"{g}/spacedim"] = np.array([3], np.int32)
@@ -272,7 +271,6 @@ def write_fclib_global(path, problem: GlobalProblem, *, solution=None) -> Path:
         h5[f"{g}/vectors/mu"] = np.asarray(problem.mu, dtype=float)
         _write_info(h5, g, problem.title, problem.description)
         _write_solution(h5, solution)
-    _umask_permissions(path)
     return Path(path)
 
 
@@ -305,7 +303,7 @@ def write_solution(path, solution, *, source: str = "", tol: float | None = None
     """
     import h5py
 
-    from ._atomic import atomic_path
+    from ._output import atomic_path
     with atomic_path(path) as tmp, h5py.File(tmp, "w") as h5:
         _write_solution(h5, solution)
         attrs = h5["solution"].attrs
@@ -315,7 +313,8 @@ def write_solution(path, solution, *, source: str = "", tol: float | None = None
         attrs["source"] = str(source)
         if tol is not None:
             attrs["tol"] = float(tol)
-    _umask_permissions(path)
+        from ._output import provenance
+        attrs["software"] = provenance()["software"]
     return Path(path)
 
 
@@ -324,11 +323,3 @@ def read_solution(path, size: int | None = None) -> np.ndarray:
     file's ``/solution/r``); ``size`` checks their number."""
     with _open(path) as h5:
         return _dataset(h5, "solution/r", size=size)
-
-
-def _umask_permissions(path) -> None:
-    """Give a file written through a temporary file the mode ``0o666 & ~umask``."""
-    import os
-    mask = os.umask(0)
-    os.umask(mask)
-    os.chmod(path, 0o666 & ~mask)

@@ -80,24 +80,25 @@ def register(sub) -> None:
 
 
 def _check_output(option: str, path, suffixes) -> None:
-    """Fail before any work if ``path`` has the wrong suffix or its folder cannot be written."""
+    """Fail before any work if ``path`` has the wrong suffix or its folder cannot be written
+    (``check_output`` of the output layer, then a probe file: /proc passes the permission test
+    but refuses files)."""
     import os
     import tempfile
     from pathlib import Path
 
+    from .._output import check_output
     from ..errors import FrictionRulesError
-    path = Path(path)
-    if suffixes and path.suffix.lower() not in suffixes:
-        raise FrictionRulesError(f"{option} {path}: constraint: a file name ending in "
-                                 f"{' or '.join(suffixes)}")
+    path = check_output(path, suffixes, name=option)
     folder = path.parent
+    while not folder.exists() and folder != folder.parent:
+        folder = folder.parent
     try:
-        folder.mkdir(parents=True, exist_ok=True)
         fd, probe = tempfile.mkstemp(dir=folder, prefix=".frictionrules-probe-")
         os.close(fd)
         os.unlink(probe)
     except OSError as exc:
-        raise FrictionRulesError(f"{option} {path}: cannot write in {folder} "
+        raise FrictionRulesError(f"{option} = {str(Path(path))!r}: cannot write in {str(folder)!r} "
                                  f"({exc.strerror or type(exc).__name__})") from None
 
 
@@ -110,42 +111,14 @@ def _row(rec) -> str:
             f"{rec.error:9.2e} {rec.seconds:8.3f}{flag}" + ("  (from --csv)" if rec.resumed else ""))
 
 
-class _Progress:
-    """Progress on stderr when it is a terminal: the running problem's error, rewritten in
-    place at most twice a second; nothing otherwise (one summary line is printed at the end)."""
-
-    def __init__(self, stream):
-        self.stream = stream
-        self.live = stream.isatty()
-        self.last = 0.0
-        self.shown = False
-
-    def iteration(self, name: str, info) -> None:
-        import time
-        if not self.live or time.monotonic() - self.last < 0.5:
-            return
-        self.last = time.monotonic()
-        self.stream.write(f"\r{name}: {info.method} iteration {info.iteration}, error {info.error:.2e}, "
-                          f"{info.seconds:.1f} s\033[K")
-        self.stream.flush()
-        self.shown = True
-
-    def clear(self) -> None:
-        if self.shown:
-            self.stream.write("\r\033[K")
-            self.stream.flush()
-            self.shown = False
-
-
 def run(args) -> int:
-    import sys
     from pathlib import Path
 
     from .._parallel import dask_client, local_cluster
+    from .._progress import Progress
     from ..errors import FrictionRulesError
     from ..io import read_fclib
-    from ..multicontact import FrictionContactProblem, solve
-    from ..multicontact._many import solve_many, summary_line
+    from ..multicontact import FrictionContactProblem, solve, solve_many
 
     path = Path(args.path)
     folder = path.is_dir()
@@ -155,7 +128,7 @@ def run(args) -> int:
         _check_output("--csv", args.csv, (".csv",))
     if args.save_solution:
         if folder:
-            _check_output("--save-solution", Path(args.save_solution) / "probe.hdf5", ())
+            _check_output("--save-solution", Path(args.save_solution) / "probe.hdf5", (".hdf5",))
         else:
             _check_output("--save-solution", args.save_solution, (".hdf5", ".h5"))
     if args.warm_start not in (None, "guess") and not Path(args.warm_start).exists():
@@ -170,31 +143,33 @@ def run(args) -> int:
     solve(FrictionContactProblem([[1.0, 0, 0], [0, 1, 0], [0, 0, 1]], [-1.0, 2.0, 0.0], [0.5]),
           method=args.method if args.method != "auto" else "nsgs")
 
-    progress = _Progress(sys.stderr)
     print(f"{'file':45s} {'contacts':>8s} {'method':>11s} {'iter':>7s} {'error':>9s} {'time/s':>8s}",
           flush=True)
+    with Progress("solve", unit="problems") as progress:
+        finished = [0]
 
-    def on_result(rec):
-        progress.clear()
-        print(_row(rec), flush=True)
+        def on_result(rec):
+            finished[0] += 1
+            progress.phase("")
+            progress(finished[0])
+            print(_row(rec), flush=True)
 
-    save = args.save_solution
-    kwargs = dict(method=args.method, tol=args.tol, max_iter=args.max_iter, time_limit=args.time_limit,
-                  warm_start=args.warm_start, out=args.csv, on_result=on_result)
-    if not folder:
-        records = _solve_file(path, kwargs, progress, save)
-    elif args.workers or args.scheduler:
-        context = local_cluster(args.workers) if args.workers else dask_client(args.scheduler)
-        with context as client:
-            records = solve_many(path, executor=client, save_solutions=save, **kwargs)
-    else:
-        records = solve_many(path, save_solutions=save, **_with_progress(kwargs, progress))
-    for rec in records:
-        if rec.resumed:
-            print(_row(rec))
-    progress.clear()
-    if not progress.live:
-        print(summary_line(records), file=sys.stderr)
+        save = args.save_solution
+        kwargs = dict(method=args.method, tol=args.tol, max_iter=args.max_iter,
+                      time_limit=args.time_limit, warm_start=args.warm_start, out=args.csv,
+                      on_result=on_result)
+        if not folder:
+            records = _solve_file(path, kwargs, progress, save)
+        elif args.workers or args.scheduler:
+            context = local_cluster(args.workers) if args.workers else dask_client(args.scheduler)
+            with context as client:
+                records = solve_many(path, executor=client, save_solutions=save, **kwargs)
+        else:
+            records = solve_many(path, save_solutions=save, **_with_progress(kwargs, progress))
+        for rec in records:
+            if rec.resumed:
+                print(_row(rec))
+        progress.close(summary_line(records))
     if args.csv:
         print(f"wrote {args.csv}")
     if save and not folder:
@@ -202,16 +177,37 @@ def run(args) -> int:
     return 0 if all(r.converged for r in records) else 1
 
 
+def summary_line(records) -> str:
+    """One line: how many problems converged, failed or were unreadable, and the time."""
+    solved = [r for r in records if r.reason != "bad input"]
+    conv = sum(r.converged for r in solved)
+    bad = len(records) - len(solved)
+    seconds = sum(r.seconds for r in records if not r.resumed)
+    resumed = sum(r.resumed for r in records)
+    return (f"{conv} converged, {len(solved) - conv} not converged, {bad} unreadable" + (f", {resumed} from the earlier table" if resumed else "")
+            + f"; {seconds:.2f} s of solver time")
+
+
 def _with_progress(kwargs, progress):
     """The serial run's keyword arguments: on a terminal its problems report their iterations."""
-    return dict(kwargs, callback=progress.iteration) if progress.live else kwargs
+    if not progress.terminal:
+        return kwargs
+
+    import time
+    last = [0.0]
+
+    def show(name, info):                   # redrawn at most 4 times a second
+        if time.monotonic() - last[0] >= 0.25:
+            last[0] = time.monotonic()
+            progress.phase(f"{name}: {info.method} iteration {info.iteration}, error {info.error:.2e}")
+    return dict(kwargs, callback=show)
 
 
 def _solve_file(path, kwargs, progress, save):
     """One file, solved here; ``save`` receives its solution."""
-    from ..io import write_solution
-    from ..multicontact._many import solve_many
     from ..errors import FrictionRulesError
+    from ..io import write_solution
+    from ..multicontact import solve_many
     records = solve_many([path], **_with_progress(dict(kwargs, on_result=None), progress))
     rec = records[0]
     if rec.reason == "bad input":           # e.g. a warm start of the wrong size: exit 2

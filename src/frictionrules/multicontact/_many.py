@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import csv
 import io
-import math
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -68,8 +67,8 @@ class SolveRecord:
 
     def csv_row(self) -> tuple:
         err = "" if self.error is None else f"{self.error:.6e}"
-        return (self.name, self.contacts, self.method, self.iterations, err, int(self.converged),
-                self.reason, f"{self.seconds:.6f}")
+        return (self.name, str(self.contacts), self.method, str(self.iterations), err,
+                str(int(self.converged)), self.reason, f"{self.seconds:.6f}")
 
 
 def _name(item, index: int) -> str:
@@ -125,15 +124,21 @@ def _solve_batch(jobs) -> list[SolveRecord]:
     return [_solve_one(job) for job in jobs]
 
 
+#: Units of the table's columns (``docs/conventions.md``).
+CSV_UNITS = {"file": "-", "contacts": "1", "method": "-", "iterations": "1", "error": "1",
+             "converged": "1", "reason": "-", "seconds": "s"}
+
+
 def read_table(path, method: str) -> dict[str, SolveRecord]:
     """Records of an earlier run's CSV table for ``method``, by name (empty when absent)."""
     path = Path(path)
     if not path.is_file():
         return {}
     try:
-        rows = list(csv.reader(io.StringIO(path.read_text(encoding="utf-8"))))
+        text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         raise FrictionRulesError(f"cannot read the earlier table {path}: {exc}") from exc
+    rows = list(csv.reader(line for line in io.StringIO(text) if not line.startswith("#")))
     if not rows or tuple(rows[0]) != CSV_HEADER:
         raise FrictionRulesError(f"{path} is not a table of this command (header {rows[:1]}); "
                                  "constraint: remove it or name another file")
@@ -150,15 +155,12 @@ def read_table(path, method: str) -> dict[str, SolveRecord]:
     return done
 
 
-def _write_table(path, records) -> None:
-    from ..io import _umask_permissions
-    from .._atomic import write_text
-    buf = io.StringIO()
-    writer = csv.writer(buf, lineterminator="\n")
-    writer.writerow(CSV_HEADER)
-    writer.writerows(rec.csv_row() for rec in records)
-    write_text(path, buf.getvalue())
-    _umask_permissions(path)
+def _write_table(path, records, tol) -> None:
+    from .._output import provenance, write_table
+    rows = [rec.csv_row() for rec in records]
+    columns = {name: [row[k] for row in rows] for k, name in enumerate(CSV_HEADER)}
+    write_table(path, columns, units=CSV_UNITS,
+                metadata=provenance(model="frictionrules.solve_many", parameters={"tol": tol}))
 
 
 def _batches(jobs, weights, batch_bytes):
@@ -258,17 +260,5 @@ def solve_many(paths_or_problems, method: str = "auto", tol: float = 1e-8, max_i
             if on_result is not None:
                 on_result(rec)
         if out is not None:
-            _write_table(out, [rec for rec in records if rec is not None])
+            _write_table(out, [rec for rec in records if rec is not None], tol)
     return records
-
-
-def summary_line(records) -> str:
-    """One line: how many problems converged, failed or were unreadable, and the time."""
-    solved = [r for r in records if r.reason != "bad input"]
-    conv = sum(r.converged for r in solved)
-    bad = len(records) - len(solved)
-    seconds = math.fsum(r.seconds for r in records if not r.resumed)
-    resumed = sum(r.resumed for r in records)
-    return (f"{len(records)} problem{'s' if len(records) != 1 else ''}: {conv} converged, {len(solved) - conv} not converged, "
-            f"{bad} unreadable" + (f", {resumed} from the earlier table" if resumed else "")
-            + f"; {seconds:.2f} s of solver time")

@@ -88,8 +88,8 @@ def _blas_limits(threads):
     import contextlib
     if threads is None:
         return contextlib.nullcontext()
-    from threadpoolctl import threadpool_limits
-    return threadpool_limits(limits=threads, user_api="blas")
+    from .._optional import require
+    return require("threadpoolctl", extra="solvers").threadpool_limits(limits=threads, user_api="blas")
 
 
 def solve(problem: FrictionContactProblem, method: str = "auto", tol: float = 1e-8,
