@@ -54,7 +54,7 @@ def test_thread_pool_and_batches_give_the_serial_answers(folder):
 
 def test_two_worker_local_dask_cluster_gives_the_serial_answers(folder):
     """The documented engine: a local Dask cluster of two worker processes."""
-    from frictionrules._parallel import local_cluster
+    from frictionrules.parallel import local_cluster
     paths = sorted(folder.glob("*.hdf5"))
     problems = [random_problem(10 + k) for k in range(3)]
     serial = solve_many([*paths, *problems], method="prox", tol=1e-10)
@@ -139,7 +139,7 @@ def _product(a, b):
 def test_missing_dask_names_the_extra(monkeypatch):
     import builtins
 
-    from frictionrules._parallel import local_cluster
+    from frictionrules.parallel import local_cluster
     real = builtins.__import__
 
     def fake(name, *args, **kwargs):

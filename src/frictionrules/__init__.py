@@ -32,7 +32,7 @@ from .io import read_fclib, write_fclib
 from .multicontact import (ADMMOptions, FrictionContactProblem, IterationInfo, NewtonOptions,
                            NSGSOptions, ProxOptions, RelaxationComparison, Solution, SolveRecord,
                            compare_relaxation, solve, solve_many)
-from ._parallel import SweepPoint, sweep
+from .parallel import SweepPoint, sweep
 # elastic-plastic contact with hardening and softening (§4)
 from .contact import ContactModel, ContactState, DriveResult, UpdateResult, drive
 # configuration softening: grains sliding over layers (§3)

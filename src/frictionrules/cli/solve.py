@@ -114,7 +114,7 @@ def _row(rec) -> str:
 def run(args) -> int:
     from pathlib import Path
 
-    from .._parallel import dask_client, local_cluster
+    from ..parallel import dask_client, local_cluster
     from .._progress import Progress
     from ..errors import FrictionRulesError
     from ..io import read_fclib

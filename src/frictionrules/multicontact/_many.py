@@ -190,7 +190,7 @@ def solve_many(paths_or_problems, method: str = "auto", tol: float = 1e-8, max_i
         As in :func:`~frictionrules.solve`, for every problem (``time_limit`` per problem).
     executor : None, concurrent.futures.Executor or distributed.Client
         Where the tasks run (None: in this process, in order). See
-        :mod:`frictionrules._parallel` for a local Dask cluster or a cluster's scheduler.
+        :mod:`frictionrules.parallel` for a local Dask cluster or a cluster's scheduler.
     warm_start : None, "guess", or a path
         Initial reactions: an FCLIB file's ``/guesses/1/r``, or a saved solution (a file, or
         a folder of files named like the problems, as ``save_solutions`` writes them).
@@ -215,7 +215,7 @@ def solve_many(paths_or_problems, method: str = "auto", tol: float = 1e-8, max_i
         In the order of the input, whatever the order of completion.
     """
     from ..errors import check_scalar
-    from .._parallel import run_tasks
+    from ..parallel import run_tasks
     from ._solve import METHODS
     if isinstance(paths_or_problems, (str, Path)) and Path(paths_or_problems).is_dir():
         items = sorted(Path(paths_or_problems).glob("*.hdf5"))

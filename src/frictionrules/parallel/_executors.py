@@ -20,12 +20,12 @@ import itertools
 from dataclasses import dataclass
 from typing import Any, Callable, Iterable, Iterator, Mapping
 
-from .errors import FrictionRulesError
+from ..errors import FrictionRulesError
 
 __all__ = ["sweep", "SweepPoint", "local_cluster", "dask_client"]
 
 def _distributed():
-    from ._optional import require
+    from .._optional import require
     return require("distributed", extra="dask", purpose="a Dask cluster")
 
 
