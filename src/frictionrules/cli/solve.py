@@ -22,24 +22,20 @@ def _positive_int(text):
     return value
 
 
-def _positive_float(text):
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"invalid number: {text!r}") from None
-    if not value > 0 or value == float("inf"):
-        raise argparse.ArgumentTypeError(f"{value} violates: finite and > 0")
-    return value
+def _float_type(strict: bool):
+    """An argparse type: a finite number, > 0 (``strict``) or >= 0."""
+    def parse(text):
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"invalid number: {text!r}") from None
+        if not (value > 0 if strict else value >= 0) or value == float("inf"):
+            raise argparse.ArgumentTypeError(f"{value} violates: finite and {'>' if strict else '>='} 0")
+        return value
+    return parse
 
 
-def _tolerance(text):
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"invalid number: {text!r}") from None
-    if not 0 <= value < float("inf"):
-        raise argparse.ArgumentTypeError(f"{value} violates: finite and >= 0")
-    return value
+_positive_float, _tolerance = _float_type(True), _float_type(False)
 
 
 def register(sub) -> None:

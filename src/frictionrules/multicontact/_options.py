@@ -7,7 +7,7 @@ the ``method`` argument does, and the record must match it.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -16,8 +16,9 @@ from ..errors import FrictionRulesError, check_scalar
 __all__ = ["NSGSOptions", "NewtonOptions", "ProxOptions", "ADMMOptions", "IterationInfo"]
 
 
-def _check(record, positive=(), nonnegative=(), fractions=(), integers=()) -> None:
-    """Validate the named fields of a frozen options record (raise naming the field)."""
+def _check(record, positive=(), nonnegative=(), fractions=(), integers=(), counts=()) -> None:
+    """Validate the named fields of a frozen options record (raise naming the field):
+    ``integers`` >= 0, ``counts`` >= 1."""
     name = type(record).__name__
     for f in positive:
         check_scalar(f"{name}.{f}", getattr(record, f), lo=0.0, lo_open=True)
@@ -25,10 +26,10 @@ def _check(record, positive=(), nonnegative=(), fractions=(), integers=()) -> No
         check_scalar(f"{name}.{f}", getattr(record, f), lo=0.0)
     for f in fractions:
         check_scalar(f"{name}.{f}", getattr(record, f), lo=0.0, hi=1.0, lo_open=True, hi_open=True)
-    for f in integers:
+    for f, least in [(f, 0) for f in integers] + [(f, 1) for f in counts]:
         value = getattr(record, f)
-        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 0:
-            raise FrictionRulesError(f"{name}.{f} = {value!r} violates: an integer >= 0")
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < least:
+            raise FrictionRulesError(f"{name}.{f} = {value!r} violates: an integer >= {least}")
 
 
 @dataclass(frozen=True)
@@ -49,10 +50,7 @@ class NSGSOptions:
     chunk_seconds: float = 0.25
 
     def __post_init__(self):
-        _check(self, positive=("chunk_seconds",), integers=("max_check_interval",))
-        if self.max_check_interval < 1:
-            raise FrictionRulesError(
-                f"NSGSOptions.max_check_interval = {self.max_check_interval} violates >= 1")
+        _check(self, positive=("chunk_seconds",), counts=("max_check_interval",))
 
 
 @dataclass(frozen=True)
@@ -92,10 +90,7 @@ class NewtonOptions:
 
     def __post_init__(self):
         _check(self, positive=("lm_weight", "direction_rtol", "min_step"), fractions=("dense_fill", "armijo"),
-               integers=("dense_max", "refinement_steps", "stall_iterations", "nonmonotone_memory"))
-        if self.nonmonotone_memory < 1:
-            raise FrictionRulesError(
-                f"NewtonOptions.nonmonotone_memory = {self.nonmonotone_memory} violates >= 1")
+               integers=("dense_max", "refinement_steps", "stall_iterations"), counts=("nonmonotone_memory",))
 
 
 @dataclass(frozen=True)
@@ -225,8 +220,3 @@ class IterationInfo:
     iteration: int
     error: float
     seconds: float
-
-
-def option_fields(record) -> dict:
-    """The fields of an options record, by name (for tables and provenance)."""
-    return {f.name: getattr(record, f.name) for f in fields(record)}
