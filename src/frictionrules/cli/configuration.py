@@ -241,6 +241,8 @@ def _figure(model, data, path, meta, *, polar: bool) -> None:
             edge = np.nanmax(r) * 1.05 if np.isfinite(r).any() else 1.0
             ax.plot(th[data["jammed"]], np.full(int(data["jammed"].sum()), edge), "x",
                     color="tab:red", label="jammed")
+        if np.isfinite(r).any():  # radial tick labels along the direction of the least peak
+            ax.set_rlabel_position(float(np.rad2deg(th[np.nanargmin(r)])))
         ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=8)
         ax.set_title("peak |T|/Q against the force direction")
     else:
