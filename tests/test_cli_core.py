@@ -136,9 +136,10 @@ def test_negative_numbers_are_values(capsys):
 @pytest.mark.parametrize("argv, message", [
     (["law", "coulomb", "--param", "mu=abc"], "--param 'mu=abc': mu = 'abc' violates: must be a finite number"),
     (["law", "coulomb", "--param", "dilatant=maybe"], "dilatant = 'maybe' violates: true or false"),
-    (["law", "user", "--limit", "foo(T1)"], "--limit = 'foo(T1)': unknown function 'foo' at position 0"),
-    (["law", "user", "--limit", "T1", "--potential", "T1.real"], "--potential = 'T1.real': character"),
-    (["law", "user", "--param", "limit=T1[0]"], "--param limit = 'T1[0]'"),
+    (["law", "user", "--limit", "foo(T1)"], "limit = 'foo(T1)': unknown function 'foo' at position 0"),
+    (["law", "user", "--limit", "T1", "--potential", "T1.real"], "potential = 'T1.real': character"),
+    (["law", "user", "--param", "limit=T1[0]"], "limit = 'T1[0]': character not allowed '['"),
+    (["law", "user", "--limit", "T1 - mu*N"], "unknown name 'mu' at position 5"),
     (["law", "coulomb", "--mu", "nan"], "argument --mu: 'nan' violates: must be a finite number"),
 ])
 def test_law_bad_parameters_are_one_line(argv, message, capsys):
@@ -162,6 +163,12 @@ def test_user_law_accepts_carets_and_reports_progress_off_a_terminal(capsys):
     out, err = capsys.readouterr()
     assert json.loads(out)["friction_coefficient"] == pytest.approx(0.3)
     assert err.startswith("law user: done in ") and "\r" not in err and err.count("\n") == 1
+    # named parameters of the expressions: --param NAME=VALUE (or a number option of that name)
+    for given in (["--param", "mu=0.4"], ["--mu", "0.4"]):
+        assert main(["law", "user", "--limit", "sqrt(T1^2 + T2^2) - mu*N", *given, "--force",
+                     "0.4", "0", "--normal", "1", "--json", "--quiet"]) == 0
+        out, err = capsys.readouterr()
+        assert json.loads(out)["friction_coefficient"] == pytest.approx(0.4) and err == ""
 
 
 # ---- main: internal errors, --debug ------------------------------------------------------------

@@ -69,9 +69,10 @@ def _one_line(exc: BaseException) -> str:
 def main(argv=None) -> int:
     """Entry point of the ``frictionrules`` console script; returns the exit code.
 
-    Bad input (a :class:`FrictionRulesError`, a missing or unreadable file) exits with code 2
-    and a one-line message on stderr; any other exception is an internal error, exit code 1,
-    one line naming it (the traceback with ``--debug`` or ``FRICTIONRULES_DEBUG=1``).
+    Bad input (a :class:`FrictionRulesError`, a missing or unreadable file) and a missing
+    optional package exit with code 2 and a one-line message on stderr; any other exception is
+    an internal error, exit code 1, one line naming it (the traceback with ``--debug`` or
+    ``FRICTIONRULES_DEBUG=1``).
     """
     from .._output import command_line
 
@@ -85,6 +86,12 @@ def main(argv=None) -> int:
     debug = args.debug or os.environ.get("FRICTIONRULES_DEBUG", "") not in ("", "0")
     try:
         return int(args.run(args) or 0)
+    except ModuleNotFoundError as exc:  # an optional package: name the extra that installs it
+        from .._optional import missing_module_message
+        if (msg := missing_module_message(exc)) is None:
+            return _internal_error(args.command, exc, debug)
+        print(f"frictionrules {args.command}: error: {msg}", file=sys.stderr)
+        return 2
     except (FrictionRulesError, OSError) as exc:
         print(f"frictionrules {args.command}: error: {_one_line(exc)}", file=sys.stderr)
         return 2
@@ -92,12 +99,19 @@ def main(argv=None) -> int:
         print(f"frictionrules {args.command}: interrupted", file=sys.stderr)
         return 130
     except Exception as exc:
-        if debug:
-            raise
-        print(f"frictionrules {args.command}: internal error: {type(exc).__name__}: "
-              f"{_one_line(exc)} (a bug: please report it with the traceback that "
-              "FRICTIONRULES_DEBUG=1 or --debug shows)", file=sys.stderr)
-        return 1
+        return _internal_error(args.command, exc, debug)
+
+
+def _internal_error(command: str, exc: Exception, debug: bool) -> int:
+    """One line naming an unexpected exception (a bug), exit code 1; re-raised with ``debug``."""
+    if debug:
+        raise exc
+    text = _one_line(exc)
+    text = text if len(text) <= 300 else text[:297] + "..."
+    print(f"frictionrules {command}: internal error: {type(exc).__name__}: {text} (a bug: please "
+          "report it with the traceback that FRICTIONRULES_DEBUG=1 or --debug shows)",
+          file=sys.stderr)
+    return 1
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -29,7 +29,7 @@ def register(sub) -> None:
 
 def _has_area_fraction(model) -> bool:
     """True for laws whose state has the area fraction beta (the cap of §4)."""
-    from ..contact.cap import EllipsoidCap
+    from ..laws import EllipsoidCap
     return isinstance(model.law, EllipsoidCap)
 
 

@@ -11,7 +11,7 @@ LAWS = {
     "huber": ("Huber", ("mu_1", "mu_2", "angle")),
     "transformed": ("TransformedCoulomb", ("mu_x", "mu_y", "angle")),
     "wedge": ("WedgeAsperity", ("alpha", "mu", "local")),
-    "user": ("UserLaw", ("limit", "potential")),
+    "user": ("UserLaw", ("limit", "potential", "NAME=VALUE parameters")),
 }
 _ALIASES = {"ellipticorthotropic": "elliptic", "orthotropic": "elliptic",
             "transformedcoulomb": "transformed", "wedgeasperity": "wedge", "userlaw": "user"}
@@ -54,7 +54,8 @@ def register(sub) -> None:
                         "** ^, sqrt, abs, exp, log, sin, cos, tan, atan, atan2, Max, Min, ...)")
     p.add_argument("--potential", default=None, metavar="EXPR", help="user: g in T1, T2, N")
     p.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
-                   help="any parameter as NAME=VALUE (repeatable)")
+                   help="any parameter as NAME=VALUE (repeatable); for a user law, the value of "
+                        "a parameter its expressions name (--param mu=0.3)")
     p.add_argument("--force", nargs=2, type=finite_float, required=True, metavar=("T1", "T2"),
                    help="tangential force (for wedge: horizontal load Tx Ty)")
     p.add_argument("--normal", type=finite_float, required=True, metavar="N",
@@ -88,8 +89,8 @@ def _param_value(key: str, value: str, item: str):
 def build_law(name: str, args):
     """The law object of the CLI arguments (shared with tests and other subcommands).
 
-    Expressions of a user law are parsed by the safe parser (:mod:`frictionrules.laws._expr`):
-    the text is never evaluated as code.
+    A user law parses its expressions with the whitelist parser: the text is never evaluated
+    as code.
     """
     import numpy as np
 
@@ -99,25 +100,29 @@ def build_law(name: str, args):
     cls_name, accepted = LAWS[name]
     given = {k: getattr(args, k, None) for k in (*_FLOATS, "dilatant", "local", *_EXPRESSIONS)}
     flag_of = {k: f"--{k.replace('_', '-')}" for k in given}
+    named = {}  # a user law's own parameters (--param mu=0.3 for the symbol mu)
     for item in args.param:
         key, sep, value = item.partition("=")
         key = key.strip().replace("-", "_")
+        if sep and name == "user" and key not in _EXPRESSIONS and key.isidentifier():
+            named[key] = _param_value("mu", value, item)  # a number, like mu
+            continue
         if not sep or key not in given:
             raise FrictionRulesError(f"--param {item!r} violates: NAME=VALUE with NAME one of "
                                      f"{', '.join(sorted(given))}")
         given[key] = _param_value(key, value, item)
         flag_of[key] = f"--param {key}"
     params = {k: v for k, v in given.items() if v is not None}
+    if name == "user":  # the number options name parameters of the user's expressions
+        named = {**{k: params.pop(k) for k in _FLOATS if k in params}, **named}
     extra = sorted(set(params) - set(accepted))
     if extra:
         raise FrictionRulesError(f"law {name!r} takes {', '.join(accepted)}; not {', '.join(extra)}")
     if args.deg:
         params = {k: (float(np.deg2rad(v)) if k in _ANGLES else v) for k, v in params.items()}
-    if name == "user":
-        from ..laws._expr import parse_expression
-        from ..laws.symbols import N, T1, T2
-        symbols = {"T1": T1, "T2": T2, "N": N}
-        params = {k: parse_expression(v, symbols, name=flag_of[k]) for k, v in params.items()}
+        named = {k: (float(np.deg2rad(v)) if k in _ANGLES else v) for k, v in named.items()}
+    if name == "user" and named:
+        params["params"] = named
     import inspect
     cls = getattr(fr, cls_name)
     required = [k for k, p in inspect.signature(cls).parameters.items()

@@ -16,7 +16,8 @@ from pathlib import Path as _FilePath
 import numpy as np
 
 from ..errors import FrictionRulesError, check_finite
-from .model import OPEN, ContactModel, ContactState
+from .model import ContactModel
+from .state import OPEN, ContactState
 
 __all__ = ["DriveResult", "Path", "drive", "read_path", "read_toml"]
 
@@ -318,7 +319,7 @@ def _table(value, where: str, file) -> dict:
 
 def _law_from_table(table: dict, file=""):
     from .. import laws
-    from .cap import AreaGrowth, AreaHardening, EllipsoidCap
+    from ..laws import AreaGrowth, AreaHardening, EllipsoidCap
     table = _table(table, "[model.law]", file)
     name = table.pop("type", None)
     known = ("Coulomb", "EllipticOrthotropic", "Huber", "TransformedCoulomb", "WedgeAsperity")
@@ -362,7 +363,7 @@ def read_toml(file):
     ``options`` holds ``beta`` and the output file (or None).
     """
     from .._toml import load_toml
-    from .model import SlipHardening
+    from ..laws import SlipHardening
     file = _FilePath(file)
     doc = load_toml(file)
     unknown = sorted(set(doc) - {"model", "output", "segment"})

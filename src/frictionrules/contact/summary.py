@@ -13,7 +13,7 @@ FIG10 = {"m": 0.6, "kn": 100.0, "kt": 100.0, "beta": 0.5, "N": (0.4, 1.6), "slip
 
 def fig10_model():
     """The ContactModel of Fig. 10: the default :class:`EllipsoidCap` with ``m = 0.6``."""
-    from .cap import EllipsoidCap
+    from ..laws import EllipsoidCap
     from .model import ContactModel
     return ContactModel(EllipsoidCap(FIG10["m"]), FIG10["kn"], FIG10["kt"])
 

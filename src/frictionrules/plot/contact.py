@@ -54,7 +54,7 @@ def cap_surface(ax=None):
 
 def cap_hardening(ax=None):
     """Fig. 10b: the default A(κ, β) against β for several accumulated slips κ."""
-    from ..contact.cap import AreaHardening
+    from ..laws import AreaHardening
     ax = _axes(ax)
     A = AreaHardening()
     beta = np.linspace(0.0, 1.0, 101)
