@@ -149,7 +149,9 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 from pathlib import Path
-runpy.run_path(sys.argv[1], run_name="__main__")
+script = sys.argv[1]
+sys.argv = [script]  # as `python script.py`: the script sees no arguments
+runpy.run_path(script, run_name="__main__")
 if not any(Path(".").rglob("*.png")):  # the figures the script drew but did not save
     for i, num in enumerate(plt.get_fignums()):
         plt.figure(num).savefig(f"figure_{i}.png", dpi=100, bbox_inches="tight")
