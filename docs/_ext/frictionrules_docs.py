@@ -270,7 +270,18 @@ def escape_absolute_values(app, what, name, obj, options, lines) -> None:
         lines[i] = "".join(parts)
 
 
+def keep_literal_block_after_summary(app, what, name, obj, options, lines) -> None:
+    """numpydoc dedents the text after the summary paragraph, so a literal block that follows a
+    summary ending in ``::`` would lose its indentation; end the summary with ``:`` and give the
+    block its own ``::`` paragraph (rendered the same). Runs before numpydoc."""
+    end = next((i for i, line in enumerate(lines) if not line.strip()), len(lines))
+    if 0 < end < len(lines) and lines[end - 1].rstrip().endswith("::"):
+        lines[end - 1] = lines[end - 1].rstrip()[:-1]
+        lines[end:end] = ["", "::"]
+
+
 def setup(app):
+    app.connect("autodoc-process-docstring", keep_literal_block_after_summary, priority=100)
     app.connect("autodoc-process-docstring", escape_absolute_values)
     app.connect("builder-inited", write_api)
     app.connect("builder-inited", write_gallery)
