@@ -137,16 +137,11 @@ def _product(a, b):
 
 
 def test_missing_dask_names_the_extra(monkeypatch):
-    import builtins
+    import sys
 
     from frictionrules.parallel import local_cluster
-    real = builtins.__import__
-
-    def fake(name, *args, **kwargs):
-        if name == "distributed":
-            raise ImportError(name)
-        return real(name, *args, **kwargs)
-    monkeypatch.setattr(builtins, "__import__", fake)
+    # None in sys.modules makes every import of the package fail, already imported or not
+    monkeypatch.setitem(sys.modules, "distributed", None)
     with pytest.raises(FrictionRulesError, match=r"frictionrules\[dask\]"):
         with local_cluster(2):
             pass
