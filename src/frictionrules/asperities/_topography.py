@@ -144,7 +144,9 @@ def detrend(grid: Grid, mode: str) -> np.ndarray:
 
     ``"plane"``: the mean plane :math:`a + b x + c y` (the mean line of a profile);
     ``"rows"``: each row (a scan line along x) its own mean line, for maps whose scan lines
-    are offset from each other (AFM); ``"none"``: unchanged.
+    are offset from each other (AFM); ``"none"``: unchanged. A periodic topography has no
+    tilt (its mean gradient is zero, and removing a plane would break the periodicity): only
+    the mean height (of each row for ``"rows"``) is removed.
     """
     if mode not in DETRENDS:
         raise FrictionRulesError(f"detrend = {mode!r} violates detrend in {DETRENDS}")
@@ -152,6 +154,12 @@ def detrend(grid: Grid, mode: str) -> np.ndarray:
     if mode == "none":
         return h.copy()
     x = np.arange(h.shape[-1]) * grid.pixel_size[0]
+    if grid.periodic:
+        if mode == "plane":
+            return np.where(d, h - h[d].mean(), 0.0)
+        rows, drows = np.atleast_2d(h), np.atleast_2d(d)
+        means = np.array([z[ok].mean() if ok.any() else 0.0 for z, ok in zip(rows, drows)])
+        return np.where(d, (rows - means[:, None]).reshape(h.shape), 0.0)
     if mode == "rows" or h.ndim == 1:
         rows = np.atleast_2d(h)
         drows = np.atleast_2d(d)

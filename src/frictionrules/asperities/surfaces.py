@@ -78,7 +78,8 @@ def _merge_close(p: np.ndarray) -> np.ndarray:
 def _group_line(p: np.ndarray, bins: int) -> np.ndarray:
     """Gradients on one line: both ends exactly, the two nearest to the foot of the origin on
     either side exactly (the flattest facets: they carry the sliding along the line's
-    normal, across which every facet rises alike), the inside binned."""
+    normal, across which every facet rises alike), the inside binned on either side of the
+    foot (a bin across it would average the two sides into a flatter facet than any)."""
     c = p.mean(axis=0)
     e = np.linalg.svd(p - c, full_matrices=False)[2][0]
     s = (p - c) @ e
@@ -90,8 +91,9 @@ def _group_line(p: np.ndarray, bins: int) -> np.ndarray:
     flat = np.concatenate((below[np.argsort(s[below])[-2:]], above[np.argsort(s[above])[:2]]))
     inner = (s > s[i0]) & (s < s[i1])
     inner[flat] = False
-    return _merge_close(np.concatenate((p[[i0, i1]], p[flat],
-                                        _bin_means(s[inner], p[inner], bins))))
+    half = max(1, (bins + 1) // 2)
+    sides = [_bin_means(s[m], p[m], half) for m in (inner & (s <= foot), inner & (s > foot))]
+    return _merge_close(np.concatenate((p[[i0, i1]], p[flat], *sides)))
 
 
 def _support_points(p: np.ndarray, m: int) -> np.ndarray:
