@@ -12,6 +12,17 @@ import importlib
 from pathlib import Path
 
 from ._atomic import atomic_path
+from ._optional import require
+
+#: What the figures and key numbers import beyond NumPy: the packages of the ``paper`` extra.
+REQUIRES: tuple[str, ...] = ("matplotlib", "numba", "scipy", "sympy")
+
+
+def check_requirements() -> None:
+    """Raise one :class:`~frictionrules.FrictionRulesError` line naming the ``paper`` extra
+    if any package of :data:`REQUIRES` is missing, before any work starts."""
+    for name in REQUIRES:
+        require(name, extra="paper", purpose="frictionrules paper")
 
 #: (file stem, "module:function") of every figure, in the paper's order.
 FIGURES: tuple[tuple[str, str], ...] = (
@@ -21,18 +32,18 @@ FIGURES: tuple[tuple[str, str], ...] = (
     ("fig1d_directional_friction", "frictionrules.plot.laws:directional_friction"),
     ("fig3a_wedge_elliptic", "frictionrules.plot.laws:wedge_elliptic"),
     ("fig3b_wedge_parabolic", "frictionrules.plot.laws:wedge_parabolic"),
-    # asperity mechanisms (issue 3)
+    # asperity mechanisms (§2)
     ("fig5_two_flank", "frictionrules.plot.asperities:fig5_two_flank"),
     ("fig6a_limit_surface", "frictionrules.plot.asperities:fig6a_limit_surface"),
     ("fig6b_potential_surface", "frictionrules.plot.asperities:fig6b_potential_surface"),
     ("fig7_associated", "frictionrules.plot.asperities:fig7_associated"),
     ("heightmap_polar_mu", "frictionrules.plot.asperities:heightmap_polar"),
-    # configuration softening (issue 5)
+    # configuration softening (§3)
     ("fig8_cylinder_limit_evolution", "frictionrules.plot.configuration:cylinder_limit_evolution"),
     ("fig9_sphere_limit_evolution", "frictionrules.plot.configuration:sphere_limit_evolution"),
     ("fig8x_softening_curve", "frictionrules.plot.configuration:softening_curve"),
     ("fig9x_pocket_peak_force", "frictionrules.plot.configuration:pocket_peak_force"),
-    # elastic-plastic contact (issue 4)
+    # elastic-plastic contact (§4)
     ("fig10a_cap_surface", "frictionrules.plot.contact:cap_surface"),
     ("fig10b_cap_hardening", "frictionrules.plot.contact:cap_hardening"),
     ("fig10c_cap_shear_curves", "frictionrules.plot.contact:cap_shear_curves"),
@@ -41,9 +52,9 @@ FIGURES: tuple[tuple[str, str], ...] = (
 #: "module:function" of every key-number table.
 KEY_NUMBERS: tuple[str, ...] = (
     "frictionrules.laws.summary:key_numbers",
-    "frictionrules.asperities.summary:key_numbers",  # asperity mechanisms (issue 3)
+    "frictionrules.asperities.summary:key_numbers",
     "frictionrules.configuration.summary:key_numbers",
-    "frictionrules.contact.summary:key_numbers",  # issue 4
+    "frictionrules.contact.summary:key_numbers",
 )
 
 
@@ -54,6 +65,7 @@ def _resolve(target: str):
 
 def make_figures(out_dir, formats=("png", "svg"), names=None) -> list[Path]:
     """Draw the registered figures (or those in ``names``) and save them atomically."""
+    check_requirements()
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -76,6 +88,7 @@ def make_figures(out_dir, formats=("png", "svg"), names=None) -> list[Path]:
 
 def key_numbers() -> list[tuple[str, str, str]]:
     """Rows ``(quantity, value, reference)`` from every registered table."""
+    check_requirements()
     rows = []
     for target in KEY_NUMBERS:
         rows.extend(_resolve(target)())

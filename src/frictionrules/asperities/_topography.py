@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .._optional import require
 from ..errors import FrictionRulesError, check_finite, check_scalar
 from .surfaces import heightmap_gradients, profile_slopes
 
@@ -32,9 +33,6 @@ ISO_SIGMA = ISO_ALPHA / float(np.sqrt(2.0 * np.pi))
 #: Default scale: the short-wavelength cut-off five times the (coarser) pixel size, the ratio
 #: of cut-off to sampling distance of the standard profile filters (ISO 3274).
 DEFAULT_SCALE_PIXELS = 5.0
-
-_EXTRA = "pip install 'frictionrules[surfaces]'"
-
 
 def read_surface(path, *, physical_sizes=None, unit=None):
     """Read an instrument file (AFM, interferometer, X3P, stylus profile ...) with
@@ -59,11 +57,8 @@ def read_surface(path, *, physical_sizes=None, unit=None):
         When SurfaceTopography is not installed (the message names the extra
         ``frictionrules[surfaces]``) or the file cannot be read as a topography.
     """
-    try:
-        import SurfaceTopography
-    except ImportError as exc:
-        raise FrictionRulesError(f"reading instrument files needs SurfaceTopography: {_EXTRA}"
-                                 ) from exc
+    SurfaceTopography = require("SurfaceTopography", extra="surfaces",
+                                purpose="reading instrument files")
     path = Path(path)
     if not path.is_file():
         raise FrictionRulesError(f"{str(path)!r}: no such file")

@@ -28,6 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._optional import require
 from ..errors import FrictionRulesError, check_finite, check_scalar
 
 __all__ = ["fit", "FitResult", "FittedParameter", "compare_fits", "format_fits"]
@@ -240,8 +241,8 @@ def _names(law, params) -> list[str]:
 def _fit_one(law, *, theta, mu_m, sig, psi, psi_sig, names, bounds, confidence,
              options) -> FitResult:
     """One data set (module level, so that process pools can run it)."""
-    from scipy.optimize import least_squares
-    from scipy.stats import norm, t as student
+    least_squares = require("scipy.optimize", purpose="fit").least_squares
+    stats = require("scipy.stats", purpose="fit")
 
     bnd = {**DEFAULT_BOUNDS, **(bounds or {})}
     lo = np.array([bnd.get(k, (-np.inf, np.inf))[0] for k in names], dtype=float)
@@ -272,9 +273,9 @@ def _fit_one(law, *, theta, mu_m, sig, psi, psi_sig, names, bounds, confidence,
     cov = _covariance(sol.jac, sol.x)
     if sig is None:
         cov = cov * (chi2 / dof if dof > 0 else np.inf)
-        q = float(student.ppf(0.5 + confidence / 2.0, dof)) if dof > 0 else np.inf
+        q = float(stats.t.ppf(0.5 + confidence / 2.0, dof)) if dof > 0 else np.inf
     else:
-        q = float(norm.ppf(0.5 + confidence / 2.0))
+        q = float(stats.norm.ppf(0.5 + confidence / 2.0))
     with np.errstate(invalid="ignore"):
         stderr = np.sqrt(np.where(np.isfinite(np.diag(cov)), np.abs(np.diag(cov)), np.inf))
     at_bound = np.asarray(sol.active_mask) != 0

@@ -43,13 +43,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .._optional import require
 from ..errors import FrictionRulesError, check_finite
 
 __all__ = ["FrictionContactProblem", "Solution"]
 
 
 def _coerce_matrix(W):
-    import scipy.sparse as sp
+    sp = require("scipy.sparse", extra="solvers")
     if sp.issparse(W):
         W = sp.csr_matrix(W, dtype=float)
     else:

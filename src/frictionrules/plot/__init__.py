@@ -1,5 +1,10 @@
 """Figures: each function takes ``ax=None`` (a new figure is made when omitted) and returns the
-Axes it drew on. matplotlib is imported inside the functions, on first use."""
+Axes it drew on. matplotlib is imported inside the functions, on first use; it comes with the
+``figures`` extra."""
+
+from .._optional import require
+
+require("matplotlib", extra="figures")
 
 from .laws import (
     coulomb_cone,
