@@ -36,10 +36,10 @@ CARRYING_TOLERANCE = 0.05
 #: Above this many candidate facets, the carrying ones are counted on a regular subsample.
 _COUNT_EXACT = 1 << 17
 
-#: A warning is given where the carrying facets are fewer than this fraction of all facets:
-#: there, removing the steepest 0.1 % of the surface would change mu(theta) by more than
-#: ``CARRYING_TOLERANCE``.
-WARN_FRACTION = 1e-3
+#: A warning is given where the carrying facets are fewer than this many pixels' worth (the
+#: facets of 4 pixels: 16 triangles of a map, 4 segments of a profile): there, removing a
+#: few pixels would change mu(theta) by more than ``CARRYING_TOLERANCE``.
+WARN_PIXELS = 4.0
 
 
 @dataclass(frozen=True)
@@ -79,7 +79,7 @@ class SurfaceFriction:
         ``carrying_tolerance`` of the steepest climb's: the facets the block rides on.
     carrying_fraction : (M,) float
         ``carrying / facets``.
-    carrying_tolerance, warn_fraction : float
+    carrying_tolerance, warn_pixels : float
         The settings that define ``carrying`` and the warning.
     warnings : tuple of str
         Why the result may not be a property of the surface (also issued as
@@ -103,15 +103,16 @@ class SurfaceFriction:
     carrying: np.ndarray
     carrying_fraction: np.ndarray
     carrying_tolerance: float
-    warn_fraction: float
+    warn_pixels: float
     warnings: tuple
 
     @property
     def carried_by_few(self) -> bool:
-        """True when in some free direction the carrying facets are fewer than
-        ``warn_fraction`` of all: the result belongs to a few pixels."""
+        """True when in some free direction the carrying facets are fewer than those of
+        ``warn_pixels`` pixels: the result belongs to a few pixels."""
         free = ~self.locked
-        return bool(free.any() and self.carrying_fraction[free].min() < self.warn_fraction)
+        return bool(free.any() and self.carrying[free].min() < _few(self.warn_pixels,
+                                                                    len(self.shape)))
 
     @property
     def mu_range(self) -> tuple[float, float]:
@@ -193,7 +194,7 @@ def _carrying(p: np.ndarray, theta: np.ndarray, mu: float, tolerance: float,
 def from_topography(obj, law_or_mu, *, scale=None, detrend: str = "plane", n: int = 360,
                     bins: int = 64, locking_mu: float = LOCKING_MU,
                     carrying_tolerance: float = CARRYING_TOLERANCE,
-                    warn_fraction: float = WARN_FRACTION) -> SurfaceFriction:
+                    warn_pixels: float = WARN_PIXELS) -> SurfaceFriction:
     r"""The friction law of a measured topography at the length scale ``scale``.
 
     1. Heights ``obj.heights()`` (SurfaceTopography's ``[ix, iy]``, turned to ``h[iy, ix]``)
@@ -232,10 +233,11 @@ def from_topography(obj, law_or_mu, *, scale=None, detrend: str = "plane", n: in
         Facets whose climb alone would give mu(theta) within this fraction (default 5 %) of
         the steepest climb's count as carrying (exact up to 131072 candidate facets, else
         estimated on a regular subsample).
-    warn_fraction : float
-        Warn where the carrying facets are fewer than this fraction of all (default 1e-3):
-        there removing the steepest 0.1 % of the facets would change mu(theta) by more than
-        ``carrying_tolerance``, so the result belongs to a few pixels.
+    warn_pixels : float
+        Warn where the carrying facets are fewer than those of this many pixels (default 4:
+        16 triangles of a map, 4 segments of a profile): there removing a few pixels would
+        change mu(theta) by more than ``carrying_tolerance``, so the result belongs to them
+        (noise, a spike, a step), not to the surface.
 
     Returns
     -------
@@ -248,7 +250,7 @@ def from_topography(obj, law_or_mu, *, scale=None, detrend: str = "plane", n: in
     locking_mu = check_scalar("locking_mu", locking_mu, lo=0.0, lo_open=True)
     carrying_tolerance = check_scalar("carrying_tolerance", carrying_tolerance, lo=0.0, hi=1.0,
                                       hi_open=True)
-    warn_fraction = check_scalar("warn_fraction", warn_fraction, lo=0.0, hi=1.0)
+    warn_pixels = check_scalar("warn_pixels", warn_pixels, lo=0.0)
     bins = int(check_scalar("bins", bins, lo=1))
     h = topo.smooth(topo.detrend(grid, detrend), grid.defined, grid.pixel_size, lam,
                     grid.periodic)
@@ -268,7 +270,7 @@ def from_topography(obj, law_or_mu, *, scale=None, detrend: str = "plane", n: in
     carrying = _carrying(p, theta, mu, carrying_tolerance, support)
     fraction = carrying / len(p)
     slopes = np.hypot(*p.T)
-    notes = _warnings(theta, locked, near, fraction, carrying, len(p), warn_fraction,
+    notes = _warnings(theta, locked, near, carrying, len(p), _few(warn_pixels, h.ndim),
                       carrying_tolerance, locking_mu)
     for note in notes:
         warnings.warn(note, UserWarning, stacklevel=2)
@@ -277,7 +279,8 @@ def from_topography(obj, law_or_mu, *, scale=None, detrend: str = "plane", n: in
         shape=grid.heights.shape, undefined=int((~grid.defined).sum()), facets=len(p),
         max_slope=float(slopes.max()), rms_slope=float(np.sqrt(np.mean(slopes**2))),
         theta=theta, mu=mu_theta, locked=locked, near_locking=near, carrying=carrying,
-        carrying_fraction=fraction, carrying_tolerance=carrying_tolerance, warn_fraction=warn_fraction,
+        carrying_fraction=fraction, carrying_tolerance=carrying_tolerance,
+        warn_pixels=warn_pixels,
         warnings=tuple(notes))
 
 
@@ -286,19 +289,23 @@ def _facet_set(gradients: np.ndarray, mu: float, local: str) -> FacetSet:
     return FacetSet(_normals(gradients), mu, local)
 
 
-def _warnings(theta, locked, near, fraction, carrying, total, warn_fraction, tolerance,
-              locking_mu) -> list[str]:
+def _few(pixels: float, dim: int) -> float:
+    """Facets of ``pixels`` pixels: four triangles per pixel of a map, a segment of a profile."""
+    return pixels * (4.0 if dim == 2 else 1.0)
+
+
+def _warnings(theta, locked, near, carrying, total, few, tolerance, locking_mu) -> list[str]:
     notes = []
     free = ~locked
-    if free.any() and fraction[free].min() < warn_fraction:
-        i = np.flatnonzero(free)[np.argmin(fraction[free])]
-        few = int(np.count_nonzero(free & (fraction < warn_fraction)))
+    if free.any() and carrying[free].min() < few:
+        i = np.flatnonzero(free)[np.argmin(carrying[free])]
+        count = int(np.count_nonzero(free & (carrying < few)))
         notes.append(
-            f"in {few} of {len(theta)} directions mu(theta) is carried by fewer than "
-            f"{warn_fraction:.2g} of the facets (at theta = {np.rad2deg(theta[i]):.1f} deg by "
-            f"{int(carrying[i])} of {total} facets within {100 * tolerance:.2g} % of the "
-            "steepest climb): the result belongs to a few pixels (noise, spikes, steps), not to the "
-            "surface; look at scale_study and choose a larger scale")
+            f"in {count} of {len(theta)} directions mu(theta) is carried by fewer than "
+            f"{few:g} facets (at theta = {np.rad2deg(theta[i]):.1f} deg by {int(carrying[i])} "
+            f"of {total} within {100 * tolerance:.2g} % of the steepest climb): the result "
+            "belongs to a few pixels (noise, spikes, steps), not to the surface; look at "
+            "scale_study and choose a larger scale")
     if locked.any():
         notes.append(f"{int(locked.sum())} of {len(theta)} directions locked "
                      f"({int(near.sum())} of them with mu(theta) > {locking_mu:g})")
@@ -317,7 +324,8 @@ class ScaleStudy:
     mu : (S, M) mu(theta) (``inf`` where locked).
     locked : (S, M) bool.
     max_slope, rms_slope : (S,) facet slopes at each scale.
-    min_carrying_fraction : (S,) the smallest carrying fraction over the free directions.
+    min_carrying : (S,) the fewest carrying facets over the free directions.
+    min_carrying_fraction : (S,) the same as a fraction of all facets.
     upper_bound : (S,) :math:`\\tan(\\arctan s_{max} + \\arctan\\mu)`.
     mu_local : float, the local friction coefficient.
     warned : (S,) bool, a warning was given at that scale.
@@ -330,6 +338,7 @@ class ScaleStudy:
     locked: np.ndarray
     max_slope: np.ndarray
     rms_slope: np.ndarray
+    min_carrying: np.ndarray
     min_carrying_fraction: np.ndarray
     upper_bound: np.ndarray
     mu_local: float
@@ -402,6 +411,8 @@ def scale_study(obj, law_or_mu, scales=None, *, detrend: str = "plane", n: int =
         mu=np.stack([r.mu for r in results]), locked=np.stack([r.locked for r in results]),
         max_slope=np.array([r.max_slope for r in results]),
         rms_slope=np.array([r.rms_slope for r in results]),
+        min_carrying=np.array([r.carrying[~r.locked].min() if (~r.locked).any() else 0
+                               for r in results]),
         min_carrying_fraction=np.array([
             r.carrying_fraction[~r.locked].min() if (~r.locked).any() else 0.0
             for r in results]),

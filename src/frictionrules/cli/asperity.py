@@ -327,9 +327,10 @@ def _report(conf, law, surface, curve, mu_theta, locked, Q) -> None:
     else:
         print(f"mu(theta): {line}")
     if surface is not None and len(free):
+        i = np.flatnonzero(~locked)[np.argmin(surface.carrying[~locked])]
         print(f"bound tan(atan(steepest slope) + atan mu) = {surface.upper_bound:.6g}; carrying "
-              f"facets: at least a fraction {surface.carrying_fraction[~locked].min():.2g} of "
-              f"{surface.facets}")
+              f"facets: at least {surface.carrying[i]} of {surface.facets} "
+              f"({surface.carrying_fraction[i]:.2g})")
 
 
 def _write(files, args, conf, law, surface, curve, theta, mu_theta, locked, Q) -> list:
