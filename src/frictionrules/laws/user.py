@@ -122,7 +122,8 @@ class UserLaw(FrictionLaw):
     rates: tuple
 
     def __init__(self, limit, potential=None, params=None, state=None, rates=None):
-        import sympy
+        from .._optional import require
+        sympy = require("sympy", purpose="UserLaw")
 
         from .symbols import N, T1, T2
         params = tuple((_check_name("parameter", k), check_finite(k, v).item() if np.ndim(v) == 0
