@@ -21,7 +21,7 @@ are printed. Nothing is written unless ``--out DIR`` is given; then ``limit_curv
 
 from __future__ import annotations
 
-import re
+from ._common import add_quiet, finite_float, metadata, positive_int, progress
 
 _GEOMETRIES = ("topography", "two-flank", "normals", "profile", "heightmap")
 #: TOML keys of every geometry, and the ones each needs (``file`` paths are relative to the
@@ -35,8 +35,6 @@ _KEYS = {"topography": ({"file"}, {"scale", "detrend"}),
 #: The option that gives a TOML key.
 _OPTION = {"mu": "--mu", "alpha1": "--two-flank", "alpha2": "--two-flank", "normals": "--normals",
            "file": "FILE, --profile or --heightmap"}
-#: An argument that starts with a minus and a digit is a value (``-0.5,0,0.866``, ``-1e-6``).
-_NEGATIVE = re.compile(r"^-\.?\d")
 
 
 def register(sub) -> None:
@@ -45,12 +43,11 @@ def register(sub) -> None:
                        description="Limit curve, mechanisms, global sliding rule and mu(theta) "
                                    "of a rigid block on facets with local Coulomb friction "
                                    "(paper §2), from a geometry or a measured surface.")
-    p._negative_number_matcher = _NEGATIVE
     p.add_argument("file", nargs="?", metavar="FILE",
                    help="an instrument file (AFM, interferometer, X3P, stylus profile ...; "
                         "needs frictionrules[surfaces])")
     g = p.add_argument_group("other geometries (instead of FILE)")
-    g.add_argument("--two-flank", nargs=2, type=float, metavar=("ALPHA1", "ALPHA2"),
+    g.add_argument("--two-flank", nargs=2, type=finite_float, metavar=("ALPHA1", "ALPHA2"),
                    help="the paper's two-flank asperity (Fig. 4), radians unless --deg")
     g.add_argument("--normals", metavar="LIST", help='facet normals "nx,ny,nz;nx,ny,nz;..."')
     g.add_argument("--profile", metavar="CSV", help="profile file with columns x, z (a header "
@@ -58,22 +55,23 @@ def register(sub) -> None:
     g.add_argument("--heightmap", metavar="NPY", help="height map h[y, x] (.npy or .csv)")
     p.add_argument("--config", metavar="TOML", help="geometry and options from a TOML file")
     s = p.add_argument_group("measured surface (FILE)")
-    s.add_argument("--scale", type=float, metavar="LENGTH",
+    s.add_argument("--scale", type=finite_float, metavar="LENGTH",
                    help="cut-off wavelength of the Gaussian smoothing in the file's length unit "
                         "(0: none; default five pixels)")
     s.add_argument("--detrend", choices=("plane", "rows", "none"),
                    help="remove the mean plane (default), each scan line's mean line, or nothing")
-    p.add_argument("--dx", type=float, help="height-map spacing along x (default 1)")
-    p.add_argument("--dy", type=float, help="height-map spacing along y (default dx)")
-    p.add_argument("--mu", type=float, help="local friction coefficient")
+    p.add_argument("--dx", type=finite_float, help="height-map spacing along x (default 1)")
+    p.add_argument("--dy", type=finite_float, help="height-map spacing along y (default dx)")
+    p.add_argument("--mu", type=finite_float, help="local friction coefficient")
     p.add_argument("--local", choices=("non-associated", "associated"), help="local sliding rule")
     p.add_argument("--deg", action="store_true", default=None, help="angles in degrees")
-    p.add_argument("--Q", type=float, help="vertical load (default 1)")
-    p.add_argument("--n", type=int, help="number of directions (default 360)")
+    p.add_argument("--Q", type=finite_float, help="vertical load (default 1)")
+    p.add_argument("--n", type=positive_int, help="number of directions (>= 4, default 360)")
     p.add_argument("--out", metavar="DIR", help="write the tables and the figure into DIR "
                                                 "(nothing is written without it)")
     p.add_argument("--format", choices=("csv", "json"), default="csv", help="table format")
     p.add_argument("--no-figure", action="store_true", help="do not draw the figure")
+    add_quiet(p)
     p.set_defaults(run=run)
 
 
@@ -255,13 +253,11 @@ def run(args) -> int:
 
     import numpy as np
 
-    from .._progress import Progress
-
     files = _outputs(args)
     conf = _settings(args)
     conf["n"] = _count_of_directions(conf.get("n", 360))
     Q = _number(conf, "Q", 1.0, lo=0.0, lo_open=True)
-    with Progress("asperity", total=3, unit="stages") as bar:
+    with progress(args, "asperity", total=3, unit="stages") as bar:
         bar.phase("facets and mu(theta)")
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", UserWarning)
@@ -336,13 +332,13 @@ def _report(conf, law, surface, curve, mu_theta, locked, Q) -> None:
 def _write(files, args, conf, law, surface, curve, theta, mu_theta, locked, Q) -> list:
     import numpy as np
 
-    from .._output import command_line, provenance, write_figure, write_table
+    from .._output import write_figure, write_table
     facets = _count(law)
     params = {k: conf[k] for k in ("mu", "local", "Q", "n", "alpha1", "alpha2", "deg", "dx", "dy",
                                    "file", "detrend") if k in conf}
     if surface is not None:
         params.update(scale=surface.scale, unit=surface.unit, detrend=surface.detrend)
-    meta = provenance(command=command_line(), model=f"{type(law).__name__} ({facets} facets)", parameters=params)
+    meta = metadata(args, model=f"{type(law).__name__} ({facets} facets)", parameters=params)
     fin = np.isfinite(curve.load)
     written = [write_table(files["limit_curve"], {
         "direction": curve.direction, "Tx": curve.T[:, 0], "Ty": curve.T[:, 1],
