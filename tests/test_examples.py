@@ -102,9 +102,20 @@ def test_asperity_two_flank_example(capsys):
     assert "226.67" in capsys.readouterr().out
 
 
-def test_asperity_heightmap_fit_example():
-    rms = load("asperity_heightmap_fit").main(n=128)
-    assert rms < 0.05
+def test_asperity_heightmap_fit_example(tmp_path):
+    rms = load("asperity_heightmap_fit").main(n=128, out=str(tmp_path / "fit.png"))
+    assert rms < 0.05 and (tmp_path / "fit.png").stat().st_size > 1000
+
+
+def test_asperity_measured_surface_example(tmp_path, capsys):
+    """The stylus profile of ../shared/surfaces at the default scale (the maps are the same
+    code, tested in test_topography_files.py)."""
+    from test_topography_files import shared
+    shared("opdx-3.opdx")
+    rows, _ = load("asperity_measured_surface").main(files=("opdx-3.opdx",), draw=False)
+    r = rows[0]["result"]
+    assert 0.3 <= r.mu_range[0] <= r.mu_range[1] <= r.upper_bound
+    assert "opdx-3.opdx  scale 0.08328" in capsys.readouterr().out
 
 
 # ---- configuration softening (§3) ----------------------------------------------------

@@ -27,6 +27,8 @@ from .laws import (
 )
 # asperity mechanisms, real surfaces and calibration (§2)
 from .asperities import FacetSet, TwoFlankAsperity, fit, from_heightmap, from_profile
+from .asperities import (FitResult, FittedParameter, ScaleStudy, SurfaceFriction,
+                         from_topography, read_surface, scale_study)
 # multi-contact problems and FCLIB files; frictionrules.io is the FCLIB module
 from .io import read_fclib, write_fclib
 from .multicontact import (ADMMOptions, FrictionContactProblem, IterationInfo, NewtonOptions,
@@ -56,6 +58,13 @@ __all__ = [
     "from_profile",
     "from_heightmap",
     "fit",
+    "FitResult",
+    "FittedParameter",
+    "read_surface",
+    "from_topography",
+    "scale_study",
+    "SurfaceFriction",
+    "ScaleStudy",
     # laws (§1, §2 wedge)
     "FrictionLaw",
     "Coulomb",

@@ -50,16 +50,52 @@ def _bin_means(s: np.ndarray, values: np.ndarray, bins: int) -> np.ndarray:
     return sums[keep] / counts[keep, None]
 
 
+#: Facet gradients closer than ``_MERGE * (1 + max|p|)`` are one facet: they differ by
+#: round-off (a million times the double-precision round-off of slopes of order one), and
+#: keeping them apart would make the limit curve change mechanism between identical facets
+#: (spurious corners of 180 degrees).
+_MERGE = 1e-9
+
+
+def _merge_close(p: np.ndarray) -> np.ndarray:
+    """Merge gradients (K, 2) that differ by less than ``_MERGE * (1 + |p|)``; the first of
+    each cluster of such neighbours is kept."""
+    if len(p) < 2:
+        return p
+    require("scipy", extra="solvers")
+    from scipy.spatial import cKDTree
+
+    tol = _MERGE * (1.0 + float(np.abs(p).max()) * np.sqrt(2.0))
+    pairs = cKDTree(p).query_pairs(tol, output_type="ndarray")
+    if len(pairs) == 0:
+        return p
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(len(p),) * 2)
+    label = connected_components(graph, directed=False)[1]
+    return p[np.sort(np.unique(label, return_index=True)[1])]
+
+
 def _group_line(p: np.ndarray, bins: int) -> np.ndarray:
-    """Gradients on one line: both ends exactly, the inside binned."""
+    """Gradients on one line: both ends exactly, the two nearest to the foot of the origin on
+    either side exactly (the flattest facets: they carry the sliding along the line's
+    normal, across which every facet rises alike), the inside binned on either side of the
+    foot (a bin across it would average the two sides into a flatter facet than any)."""
     c = p.mean(axis=0)
     e = np.linalg.svd(p - c, full_matrices=False)[2][0]
     s = (p - c) @ e
     i0, i1 = int(np.argmin(s)), int(np.argmax(s))
-    if s[i1] - s[i0] <= 1e-12 * (1.0 + np.abs(p).max()):
+    if s[i1] - s[i0] <= _MERGE * (1.0 + np.abs(p).max()):
         return p[i0:i0 + 1]
+    foot = -c @ e
+    below, above = np.flatnonzero(s <= foot), np.flatnonzero(s > foot)
+    flat = np.concatenate((below[np.argsort(s[below])[-2:]], above[np.argsort(s[above])[:2]]))
     inner = (s > s[i0]) & (s < s[i1])
-    return np.concatenate((p[[i0, i1]], _bin_means(s[inner], p[inner], bins)))
+    inner[flat] = False
+    half = max(1, (bins + 1) // 2)
+    sides = [_bin_means(s[m], p[m], half) for m in (inner & (s <= foot), inner & (s > foot))]
+    return _merge_close(np.concatenate((p[[i0, i1]], p[flat], *sides)))
 
 
 def _support_points(p: np.ndarray, m: int) -> np.ndarray:
@@ -107,7 +143,7 @@ def group_gradients(p, bins: int = 64) -> np.ndarray:
         on = (dist <= tol) & (s > tol) & (s < L - tol)
         if on.any():
             out.append(_bin_means(s[on], cand[on], bins))
-    return np.concatenate(out)
+    return _merge_close(np.concatenate(out))
 
 
 def from_profile(x, z, mu, local: str = "non-associated", bins: int = 64) -> FacetSet:
@@ -116,67 +152,107 @@ def from_profile(x, z, mu, local: str = "non-associated", bins: int = 64) -> Fac
     Each segment between consecutive points is a facet with the slope
     :math:`s = \Delta z/\Delta x` and the normal :math:`(-s, 0, 1)/\sqrt{1+s^2}`. For a
     periodic profile pass one period including both end points. The steepest rising and
-    falling slopes are kept exactly; the slopes between them are grouped into at most ``bins``
-    groups (they carry the sliding along the ridges).
+    falling slopes and the flattest ones are kept exactly; the slopes between them are grouped
+    into at most ``bins`` groups (they carry the sliding along the ridges). Slopes that differ
+    by round-off (``1e-9 (1 + max|s|)``) are one facet.
 
     Parameters
     ----------
     x, z : array (M,)
-        Abscissae (strictly increasing) and heights, any consistent length unit.
+        Abscissae (strictly increasing) and heights, any consistent length unit. A masked
+        ``z`` (:class:`numpy.ma.MaskedArray`) excludes the segments with an undefined end.
     mu : float
         Local friction coefficient (> 0).
     local : {"non-associated", "associated"}
     bins : int
         Number of slope groups (>= 1).
     """
-    x, z = check_finite("x", x), check_finite("z", z)
-    if x.ndim != 1 or x.shape != z.shape or len(x) < 2:
+    return _facet_set(profile_slopes(x, z), mu, local, bins)
+
+
+def profile_slopes(x, z) -> np.ndarray:
+    """Facet gradients ``(dz/dx, 0)`` (K, 2) of the segments of a profile whose two ends are
+    defined (``z`` may be a masked array; the masked points are excluded, never filled)."""
+    defined = ~np.ma.getmaskarray(z)
+    x = check_finite("x", x)
+    z = check_finite("z", np.ma.getdata(z)[defined] if np.ndim(z) == 1 else z)
+    if x.ndim != 1 or np.shape(defined) != x.shape or len(x) < 2:
         raise FrictionRulesError(f"x and z must be 1-D of the same length >= 2, got shapes "
-                                 f"{x.shape} and {z.shape}")
+                                 f"{x.shape} and {np.shape(defined)}")
     dxs = np.diff(x)
     if np.any(dxs <= 0):
         i = int(np.argmin(dxs))
         raise FrictionRulesError(f"x[{i + 1}] = {x[i + 1]!r} violates x strictly increasing "
                                  f"(x[{i}] = {x[i]!r})")
-    bins = int(check_scalar("bins", bins, lo=1))
-    s = np.diff(z) / dxs
-    p = _group_line(np.stack((s, np.zeros_like(s)), axis=-1), bins)
-    return FacetSet(_normals(p), mu, local)
+    zz = np.zeros(x.shape)
+    zz[defined] = z
+    ok = defined[1:] & defined[:-1]
+    if not ok.any():
+        raise FrictionRulesError("z has no two consecutive defined points: no facet to use")
+    s = np.diff(zz)[ok] / dxs[ok]
+    return np.stack((s, np.zeros_like(s)), axis=-1)
 
 
-def heightmap_gradients(h, dx, dy) -> np.ndarray:
-    r"""Facet gradients ``(dh/dx, dh/dy)`` of a height map, shape ``(4 (ny-1)(nx-1), 2)``.
+def heightmap_gradients(h, dx, dy, defined=None) -> np.ndarray:
+    r"""Facet gradients ``(dh/dx, dh/dy)`` of a height map, shape ``(K, 2)``.
 
     ``h[i, j]`` is the height at ``x = j*dx``, ``y = i*dy`` (rows along y). The surface is the
     piecewise-linear interpolant of the samples; each grid cell is split into two triangles by
     either diagonal, and the four triangles' exact plane gradients are the cell's facets:
     :math:`\partial_x h` from the forward difference along the bottom or the top edge,
-    :math:`\partial_y h` along the left or the right edge (all four combinations). Taking both
-    diagonals keeps the set equivariant under quarter turns of the grid, and no facet is
-    invented across a kink (central differences would average the two sides of a ridge into a
-    flat facet).
+    :math:`\partial_y h` along the left or the right edge (all four combinations, ``K = 4
+    (ny-1)(nx-1)``). Taking both diagonals keeps the set equivariant under quarter turns of
+    the grid, and no facet is invented across a kink (central differences would average the
+    two sides of a ridge into a flat facet).
+
+    ``defined`` (bool, shape of ``h``), when given, marks the defined points: a triangle is
+    kept only when its three corners are defined (undefined points are excluded, never
+    filled).
     """
     gx = np.diff(h, axis=1) / dx              # (ny, nx-1): bottom/top edges of the cells
     gy = np.diff(h, axis=0) / dy              # (ny-1, nx): left/right edges
-    parts = [np.stack(np.broadcast_arrays(ax.ravel(), ay.ravel()), axis=-1)
-             for ax in (gx[:-1], gx[1:]) for ay in (gy[:, :-1], gy[:, 1:])]
+    if defined is not None:                   # a triangle's corners are its two edges' ends
+        x_ok, y_ok = defined[:, :-1] & defined[:, 1:], defined[:-1] & defined[1:]
+    parts = []
+    for ax_rows in (slice(None, -1), slice(1, None)):            # bottom, top edge
+        for ay_cols in (slice(None, -1), slice(1, None)):        # left, right edge
+            p = np.stack(np.broadcast_arrays(gx[ax_rows], gy[:, ay_cols]), axis=-1)
+            parts.append(p.reshape(-1, 2) if defined is None
+                         else p[x_ok[ax_rows] & y_ok[:, ay_cols]])
     return np.concatenate(parts)
+
+
+def heightmap_defined(h, name: str = "h"):
+    """Heights (ny, nx) as a float array and the bool array of defined points.
+
+    A :class:`numpy.ma.MaskedArray` marks its masked points undefined (they are excluded from
+    the facets, never filled); any other non-finite value is an error.
+    """
+    defined = ~np.ma.getmaskarray(h)
+    data = np.array(np.ma.getdata(h), dtype=float)
+    if data.ndim != 2 or min(data.shape) < 2:
+        raise FrictionRulesError(f"{name} must be a 2-D array with at least 2 rows and columns, "
+                                 f"got shape {data.shape}")
+    check_finite(name, data[defined])
+    data[~defined] = 0.0     # never read: every triangle touching these points is dropped
+    return data, defined
 
 
 def from_heightmap(h, dx, dy, mu, local: str = "non-associated", bins: int = 64) -> FacetSet:
     r"""Facet set of a height map ``h[i, j] = h(x = j dx, y = i dy)``.
 
     The facets of the cells' triangles (:func:`heightmap_gradients`) are the facet
-    orientations; the ones on the
-    boundary of their convex hull are kept (vertices exactly, those on a hull edge grouped into
-    at most ``bins`` groups), see the module notes. A map rotated by an angle gives the same
-    set rotated; a map whose gradients are all collinear (parallel ridges) is treated like a
-    profile.
+    orientations; the ones on the boundary of their convex hull are kept (vertices exactly,
+    those on a hull edge grouped into at most ``bins`` groups), see the module notes. A map
+    rotated by an angle gives the same set rotated; a map whose gradients are all collinear
+    (parallel ridges) is treated like a profile. No tilt is removed and no smoothing is done
+    here: :func:`frictionrules.from_topography` does both at a stated scale.
 
     Parameters
     ----------
     h : array (ny, nx)
-        Heights; ``nx, ny >= 2``.
+        Heights; ``nx, ny >= 2``. A :class:`numpy.ma.MaskedArray` excludes its masked points:
+        only the triangles whose three corners are defined are facets.
     dx, dy : float
         Grid spacings (> 0), same unit as ``h``.
     mu : float
@@ -185,15 +261,19 @@ def from_heightmap(h, dx, dy, mu, local: str = "non-associated", bins: int = 64)
     bins : int
         Number of groups per hull edge (>= 1).
     """
-    h = check_finite("h", h)
-    if h.ndim != 2 or min(h.shape) < 2:
-        raise FrictionRulesError(f"h must be a 2-D array with at least 2 rows and columns, got "
-                                 f"shape {h.shape}")
+    h, defined = heightmap_defined(h)
     dx = check_scalar("dx", dx, lo=0.0, lo_open=True)
     dy = check_scalar("dy", dy, lo=0.0, lo_open=True)
+    p = heightmap_gradients(h, dx, dy, None if defined.all() else defined)
+    if len(p) == 0:
+        raise FrictionRulesError("h has no grid cell with three defined corners: no facet to use")
+    return _facet_set(p, mu, local, bins)
+
+
+def _facet_set(p: np.ndarray, mu, local: str, bins) -> FacetSet:
+    """The facet set of the facet gradients ``p`` (K, 2), grouped (:func:`group_gradients`)."""
     bins = int(check_scalar("bins", bins, lo=1))
-    p = group_gradients(heightmap_gradients(h, dx, dy), bins)
-    return FacetSet(_normals(p), mu, local)
+    return FacetSet(_normals(group_gradients(p, bins)), mu, local)
 
 
 def machined_surface(n: int = 512, dx: float = 1.0, period: float = 32.0, rise: float = 0.35,
@@ -216,3 +296,55 @@ def machined_surface(n: int = 512, dx: float = 1.0, period: float = 32.0, rise: 
     noise = gaussian_filter(np.random.default_rng(seed).standard_normal((n, n)), correlation,
                             mode="wrap")
     return grooves + roughness * noise / noise.std()
+
+
+def self_affine_surface(n: int = 256, dx: float = 1.0, hurst: float = 0.8,
+                        rms_slope: float = 0.1, long_cutoff: float | None = None,
+                        short_cutoff: float | None = None, seed: int = 0) -> np.ndarray:
+    r"""A periodic, isotropic, self-affine random height map ``(n, n)`` with a given rms slope.
+
+    Random phases and the power spectrum :math:`C(q) \propto q^{-2(1+H)}` (``H = hurst``)
+    between the wavenumbers :math:`q_r = 2\pi/\text{long\_cutoff}` (flat below: the roll-off)
+    and :math:`q_s = 2\pi/\text{short\_cutoff}` (zero above), as in Persson's self-affine
+    model. The amplitude makes the rms slope of the (band-limited, smooth) surface,
+    :math:`\sqrt{\langle|\nabla h|^2\rangle} = \sqrt{\sum_q q^2|\hat h_q|^2}/n^2`
+    (Parseval), equal to ``rms_slope`` exactly; a sampled map's facet slopes approach it as
+    ``dx q_s -> 0`` (the finite differences of a wave of wavenumber q scale its slope by
+    :math:`\mathrm{sinc}(q\,dx/2)`).
+
+    Parameters
+    ----------
+    n : int
+        Grid points per side (even, >= 8).
+    dx : float
+        Pixel size (> 0, any length unit; heights in the same unit).
+    hurst : float
+        Hurst exponent, ``0 < H < 1``.
+    rms_slope : float
+        Rms slope of the surface (> 0).
+    long_cutoff, short_cutoff : float, optional
+        Roll-off and short cut-off wavelengths (defaults ``n dx / 4`` and ``16 dx``).
+    seed : int
+        Seed of :func:`numpy.random.default_rng`.
+    """
+    n = int(check_scalar("n", n, lo=8))
+    if n % 2:
+        raise FrictionRulesError(f"n = {n} violates: n even")
+    dx = check_scalar("dx", dx, lo=0.0, lo_open=True)
+    hurst = check_scalar("hurst", hurst, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
+    rms_slope = check_scalar("rms_slope", rms_slope, lo=0.0, lo_open=True)
+    long_cutoff = check_scalar("long_cutoff", n * dx / 4 if long_cutoff is None else long_cutoff,
+                               lo=0.0, lo_open=True)
+    short_cutoff = check_scalar("short_cutoff", 16 * dx if short_cutoff is None else short_cutoff,
+                                lo=2.0 * dx, hi=long_cutoff)
+    q1 = 2.0 * np.pi * np.fft.fftfreq(n, dx)
+    qx, qy = np.meshgrid(q1, q1)
+    q = np.hypot(qx, qy)
+    qr, qs = 2.0 * np.pi / long_cutoff, 2.0 * np.pi / short_cutoff
+    amp = np.where(q <= qs, np.maximum(q, qr) ** -(1.0 + hurst), 0.0)
+    amp[0, 0] = 0.0
+    rng = np.random.default_rng(seed)
+    h = np.fft.ifft2(amp * np.fft.fft2(rng.standard_normal((n, n)))).real
+    hq = np.fft.fft2(h)
+    slope = np.sqrt(np.sum(q**2 * np.abs(hq) ** 2)) / n**2
+    return h * (rms_slope / slope)
