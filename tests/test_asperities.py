@@ -305,7 +305,8 @@ def test_protocol_on_the_limit_curve():
                                atol=1e-9)
     D = law.dissipation(np.stack((np.cos(theta[ok]), np.sin(theta[ok])), -1), 1.0)
     assert np.all(D > 0)
-    with pytest.raises(NotImplementedError):
+    assert "symbolic" not in law.capabilities
+    with pytest.raises(FrictionRulesError, match="lacks the capability 'symbolic'"):
         law.symbolic()
 
 

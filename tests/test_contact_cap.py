@@ -7,8 +7,8 @@ import sympy
 
 from frictionrules import ContactModel, EllipsoidCap, FrictionRulesError, drive
 from frictionrules.contact import AreaGrowth, AreaHardening
-from frictionrules.contact.cap import state_symbols
-from frictionrules.contact.model import PLASTIC
+from frictionrules.laws.cap import state_symbols
+from frictionrules.contact.state import PLASTIC
 
 M = 0.6
 

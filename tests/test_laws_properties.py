@@ -3,13 +3,24 @@ derived gradient of g, the inverse relation inverts it, dissipation is non-negat
 commute with rotations; hand-written gradients against the SymPy-derived ones and Hessians
 against finite differences."""
 
+import types
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from frictionrules import Coulomb, EllipticOrthotropic, FrictionLaw, Huber, TransformedCoulomb, WedgeAsperity
-from frictionrules.laws._derived import compiled
+from frictionrules.laws._inverse import inverse_relation
+from frictionrules.laws._symbolic import derived, form_of
+
+
+def compiled(law):
+    """The functions derived from the law's symbolic form, at its parameter values."""
+    d, p = derived(law), form_of(law).values
+    q = np.zeros(0)
+    return types.SimpleNamespace(**{k: (lambda fun: lambda t1, t2, n: fun(t1, t2, n, q, p))(getattr(d, k))
+                                    for k in ("f", "g", "grad_f", "grad_g")})
 
 mus = st.floats(0.05, 1.5)
 angles = st.floats(-np.pi, np.pi)
@@ -86,8 +97,8 @@ def test_force_for_slip_inverts_slip_direction(law, theta, N):
 
 @given(laws(), thetas, normals)
 def test_closed_form_inverse_matches_generic_numeric_inverse(law, theta, N):
-    closed = law._force_at_angle(np.array(theta), np.array(N))
-    generic = FrictionLaw._force_at_angle(law, np.array(theta), np.array(N))
+    closed = law.inverse_relation(np.array(theta), np.array(N)).force
+    generic = inverse_relation(law, np.array(theta), np.array(N)).force
     np.testing.assert_allclose(closed, generic, rtol=1e-9, atol=1e-12 * N)
 
 

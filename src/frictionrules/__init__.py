@@ -8,11 +8,18 @@ for user laws are imported lazily (SymPy loads on first use).
 
 from .errors import FrictionRulesError
 from .laws import (
+    Cone,
     Coulomb,
+    EllipsoidCap,
     EllipticOrthotropic,
     FrictionLaw,
+    HardenedLaw,
     Huber,
+    InverseRelation,
+    LawState,
     RuleComparison,
+    SlipHardening,
+    SymbolicLaw,
     TransformedCoulomb,
     UserLaw,
     WedgeAsperity,
@@ -24,7 +31,7 @@ from .asperities import FacetSet, TwoFlankAsperity, fit, from_heightmap, from_pr
 from .io import read_fclib, write_fclib
 from .multicontact import FrictionContactProblem, Solution, solve
 # elastic-plastic contact with hardening and softening (issue 4)
-from .contact import ContactModel, ContactState, DriveResult, EllipsoidCap, UpdateResult, drive
+from .contact import ContactModel, ContactState, DriveResult, UpdateResult, drive
 # configuration softening: grains sliding over layers (issue 5)
 from .configuration import (
     CylinderOnLayer,
@@ -56,6 +63,12 @@ __all__ = [
     "WedgeAsperity",
     "RuleComparison",
     "compare_rules",
+    "LawState",
+    "SymbolicLaw",
+    "InverseRelation",
+    "Cone",
+    "SlipHardening",
+    "HardenedLaw",
     "T1",
     "T2",
     "N",

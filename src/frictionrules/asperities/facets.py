@@ -52,7 +52,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import FrictionRulesError, check_finite, check_scalar
-from ..laws.base import FrictionLaw, _Locked
+from ..laws import FrictionLaw, InverseRelation
 
 __all__ = ["FacetSet", "LimitLoad", "LimitCurve", "Corner"]
 
@@ -371,7 +371,7 @@ class _FacetLaw(FrictionLaw):
         sol = {k: v.reshape(T.shape[:-1] + v.shape[1:]) for k, v in sol.items()}
         return T, Q, r, sol
 
-    def limit(self, T, Q):
+    def limit(self, T, Q, q=None):
         """:math:`f = |T| - Q\\,t_1(T/|T|)`: < 0 inside, 0 on the limit surface, -inf locked."""
         T, Q, r, sol = self._at(T, Q)
         with np.errstate(invalid="ignore"):
@@ -391,7 +391,7 @@ class _FacetLaw(FrictionLaw):
         w = np.divide(Ft, Ftn, out=np.zeros_like(Ft), where=Ftn > 0)
         return F, single, nj, w, sol
 
-    def potential(self, T, Q):
+    def potential(self, T, Q, q=None):
         """Global potential of the mechanism active in the direction of ``T``.
 
         One facet ``j``: :math:`g = |F - (F\\cdot n_j)n_j|` (the wedge potential (2.6), (2.14));
@@ -407,7 +407,7 @@ class _FacetLaw(FrictionLaw):
         g2 = np.sum(F * sol["velocity"], axis=-1)
         return np.where(single, g1, g2)
 
-    def potential_gradient(self, T, Q):
+    def potential_gradient(self, T, Q, q=None):
         """``(dg/dTx, dg/dTy, dg/dQ)`` of :meth:`potential`."""
         F, single, nj, w, sol = self._mechanism_terms(T, Q)
         dilatant = self.associated | ~sol["quasi_static"]
@@ -415,7 +415,7 @@ class _FacetLaw(FrictionLaw):
         g = np.where(single[..., None], g1, sol["velocity"])
         return g * np.array([1.0, 1.0, -1.0])
 
-    def limit_gradient(self, T, Q):
+    def limit_gradient(self, T, Q, q=None):
         """Gradient of the active mechanism's degree-one limit function ``f_m``.
 
         One facet: :math:`f_j = |F_t| + \\mu F\\cdot n_j` (the wedge limit (2.2) in its
@@ -426,18 +426,15 @@ class _FacetLaw(FrictionLaw):
         g = np.where(single[..., None], w + self._facets.mu * nj, sol["normal"])
         return g * np.array([1.0, 1.0, -1.0])
 
-    def symbolic(self):
-        """Not available: the global law is piecewise, each piece valid on a range of loads
-        that depends on kinematic admissibility. The Hessians of the protocol therefore raise
-        :class:`NotImplementedError` for facet sets; everything else here is closed-form."""
-        raise NotImplementedError("a facet set has no single closed-form (f, g); use the "
-                                  "mechanism pieces (limit_load, limit_curve)")
+    # No symbolic form (capability "symbolic"): the global law is piecewise, each piece valid
+    # on a range of loads that depends on kinematic admissibility; everything here is
+    # closed-form per mechanism.
 
-    def centre(self, Q) -> np.ndarray:
+    def centre(self, Q, q=None) -> np.ndarray:
         Q = np.asarray(Q, dtype=float)
         return np.zeros(Q.shape + (2,))
 
-    def _force_at_angle(self, theta, Q):
+    def _inverse_relation(self, theta, Q, q):
         """Load on the limit curve whose block velocity slides at the horizontal angle ``theta``.
 
         Non-associated: for the horizontal slip ``u`` every admissible velocity has
@@ -460,12 +457,7 @@ class _FacetLaw(FrictionLaw):
         T = (_support_force(geo, u) if self.associated else _climb_force(geo, u))
         T = Q.reshape(-1)[:, None] * T
         T = np.where(np.isfinite(T), T, np.inf).reshape(theta.shape + (2,))
-        bad = ~np.all(np.isfinite(T), axis=-1)
-        if bad.any():
-            first = tuple(np.argwhere(bad)[0])
-            raise _Locked(f"the facet set locks for slip at theta = {float(theta[first])!r} rad: "
-                          "no finite horizontal load slides it that way", T)
-        return T
+        return InverseRelation(T, ~np.all(np.isfinite(T), axis=-1))
 
 
 def _angle(a: np.ndarray, b: np.ndarray) -> np.ndarray:

@@ -343,25 +343,37 @@ def outputs(n: int) -> tuple:
 SERIAL_BELOW = 2048
 
 
-def run_kernel(model, name: str, e, p, q, du):
-    """Run the kernel ``name`` for ``model``; return ``(e1, p1, q1, force, dlam, status, diss)``."""
+def run_kernel(cfr, kt, kn, e, p, q, du):
+    """Run a law's closed-form return ``cfr`` (:class:`~frictionrules.laws.ClosedFormReturn`).
+
+    ``q`` holds the law's internal variables ``(n, nq)``: none for Coulomb and the elliptic law,
+    ``(kappa, beta)`` for the cap. Returns the step's rows and a boolean array of contacts whose
+    iteration failed (the caller integrates those with the derived return mapping).
+    """
+    from ._step import Step
     serial = len(e) < SERIAL_BELOW
-    coulomb = coulomb_update_serial if serial else coulomb_update
-    elliptic = elliptic_update_serial if serial else elliptic_update
-    cap = cap_update_serial if serial else cap_update
     out = outputs(len(e))
-    law = model.law
-    args = (np.ascontiguousarray(e), np.ascontiguousarray(p), np.ascontiguousarray(q[:, 0]),
-            np.ascontiguousarray(du), model.kt, model.kn)
-    if name == "EllipsoidCap":
+    e, p, du = (np.ascontiguousarray(a) for a in (e, p, du))
+    if cfr.kernel == "cap":
+        cap = cap_update_serial if serial else cap_update
+        kappa, beta = np.ascontiguousarray(q[:, 0]), np.ascontiguousarray(q[:, 1])
         beta1 = np.empty(len(e))
-        cap(*args[:3], np.ascontiguousarray(q[:, 1]), *args[3:], law.m, law.normal_ratio, law.A.p,
-                   law.A.h, law.A.kappa_h, law.B.b, *out[:3], beta1, *out[3:])
-        e1, p1, kappa1, force, dlam, status, diss = out
-        return e1, p1, np.stack((kappa1, beta1), axis=-1), force, dlam, status.astype(np.int64), diss
-    if name == "Coulomb":
-        coulomb(*args, law.mu, law.dilatant, *out)
+        cap(e, p, kappa, beta, du, kt, kn, *cfr.params, *out[:3], beta1, *out[3:])
+        q1 = np.stack((out[2], beta1), axis=-1)
     else:
-        elliptic(*args, law.mu_x, law.mu_y, law.angle, *out)
+        zero = np.zeros(len(e))
+        if cfr.kernel == "coulomb":
+            mu, dilatant = cfr.params
+            (coulomb_update_serial if serial else coulomb_update)(e, p, zero, du, kt, kn, mu,
+                                                                  bool(dilatant), *out)
+        elif cfr.kernel == "elliptic":
+            (elliptic_update_serial if serial else elliptic_update)(e, p, zero, du, kt, kn,
+                                                                    *cfr.params, *out)
+        else:
+            raise ValueError(f"unknown compiled return {cfr.kernel!r}")
+        q1 = q.copy()
     e1, p1, kappa1, force, dlam, status, diss = out
-    return e1, p1, np.stack((kappa1, q[:, 1]), axis=-1), force, dlam, status.astype(np.int64), diss
+    failed = status < 0
+    status = np.where(failed, 0, status).astype(np.int64)
+    slip = kappa1 - q[:, 0] if cfr.kernel == "cap" else kappa1
+    return Step(e1, p1, q1, force, dlam, status, diss, np.where(failed, 0.0, slip)), failed

@@ -18,7 +18,8 @@ import numpy as np
 
 from .._atomic import atomic_path, write_text
 from ..errors import FrictionRulesError, check_finite
-from .model import OPEN, ContactModel, ContactState
+from .model import ContactModel
+from .state import OPEN, ContactState
 
 __all__ = ["DriveResult", "Path", "drive", "read_path", "read_toml"]
 
@@ -310,7 +311,7 @@ def _read_csv(file) -> Path:
 
 def _law_from_table(table: dict):
     from .. import laws
-    from .cap import AreaGrowth, AreaHardening, EllipsoidCap
+    from ..laws import AreaGrowth, AreaHardening, EllipsoidCap
     table = dict(table)
     name = table.pop("type", None)
     if name == "EllipsoidCap":
@@ -353,7 +354,7 @@ def read_toml(file):
     ``options`` holds ``beta`` and the output file (or None).
     """
     from .._toml import load_toml
-    from .model import SlipHardening
+    from ..laws import SlipHardening
     file = _FilePath(file)
     doc = load_toml(file)
     model_t = dict(doc.get("model", {}))

@@ -1,8 +1,9 @@
 r"""Integration of the elastic-plastic contact law (4.1)–(4.7): the implicit return mapping,
 its consistent tangent, and the explicit rate form (4.10)–(4.11).
 
-Everything works on batches: forces ``sigma = (T1, T2, N)`` of shape ``(n, 3)`` and hardening
-variables ``q = (kappa, beta)`` of shape ``(n, 2)``. The elastic law (4.2), written in the
+Everything works on batches: forces ``sigma = (T1, T2, N)`` of shape ``(n, 3)`` and the law's
+internal variables ``q`` of shape ``(n, nq)`` (none for a perfectly plastic law; ``(kappa,)``
+with slip hardening; ``(kappa, beta)`` for the cap (4.9)). The elastic law (4.2), written in the
 frictionrules convention (``δn`` positive on opening, ``N > 0`` compression), is
 
 .. math:: T = k_t(\delta_t - \delta_t^p), \qquad N = -k_n(\delta_n - \delta_n^p),
@@ -19,7 +20,8 @@ Backward Euler (closest-point projection in the energy metric when g = f) solves
 .. math:: \sigma - \sigma^{tr} + \Delta\lambda D\nabla g(\sigma, q) = 0,\quad
           q - q_n - \Delta\lambda\, h(\sigma, q) = 0,\quad f(\sigma, q) = 0,
 
-with :math:`h = (|g_{,T}|,\; B(\beta) g_{,N})` from (4.5), by Newton's method with a
+with the law's evolution :math:`h = \dot q/\dot\lambda` (4.5), e.g.
+:math:`h = (|g_{,T}|,\; B(\beta) g_{,N})` for the cap, by Newton's method with a
 backtracking line search. The consistent tangent is the σ-block of the inverse Newton
 Jacobian times ``E``.
 """
@@ -30,75 +32,49 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..laws import LocalDerivatives
 from ..laws.base import safe_ratio
 
 #: Newton tolerance on the scaled residual, and the iteration limits.
-_TOL = 1e-13
+TOL = 1e-13
 _MAX_ITER = 60
 _MAX_HALVINGS = 12
 
 
-@dataclass(frozen=True)
-class Local:
-    """Everything the return mapping needs at one batch of points ``(sigma, q)``.
+class Surface:
+    r"""A law of the protocol seen by the return mapping: forces ``sigma = (T1, T2, N)`` and the
+    law's internal variables ``q`` as rows of arrays ``(n, 3)`` and ``(n, nq)``.
 
-    ``f`` (n,), ``df`` (n, 3) and ``dfq`` (n, 2) the gradients of f in sigma and q, ``dg``
-    (n, 3), ``hgg`` (n, 3, 3) and ``hgq`` (n, 3, 2) the gradient and Hessian blocks of g, ``h``
-    (n, 2) the hardening rates per unit λ, ``dhs`` (n, 2, 3) and ``dhq`` (n, 2, 2) their
-    derivatives.
+    Everything comes from the law's symbolic form (:meth:`FrictionLaw.local`). Derivatives that
+    are not finite at a kink (the apex ``T = 0`` of a cone: 0/0 in the gradient of ``|T|``, an
+    unbounded Hessian) are replaced by 0, the minimal-norm subgradient and its derivative.
+    Laws defined for ``N >= 0`` only are evaluated at ``max(N, 0)`` along Newton iterates with
+    ``N < 0``. Returns that end at the apex of a cone are recognized by :meth:`apex_region`.
     """
 
-    f: np.ndarray
-    df: np.ndarray
-    dfq: np.ndarray
-    dg: np.ndarray
-    hgg: np.ndarray
-    hgq: np.ndarray
-    h: np.ndarray
-    dhs: np.ndarray
-    dhq: np.ndarray
-
-
-def _hardening_rates(dg, hgg, hgq, B, dB, g_n):
-    r"""(4.5): :math:`h = (|g_{,T}|, B g_{,N})` and its derivatives in sigma and q."""
-    n = dg.shape[0]
-    norm = np.hypot(dg[:, 0], dg[:, 1])
-    e = np.stack((safe_ratio(dg[:, 0], norm), safe_ratio(dg[:, 1], norm)), axis=-1)
-    h = np.stack((norm, B * g_n), axis=-1)
-    dhs = np.empty((n, 2, 3))
-    dhs[:, 0] = np.einsum("ni,nij->nj", e, hgg[:, :2, :])
-    dhs[:, 1] = B[:, None] * hgg[:, 2, :]
-    dhq = np.empty((n, 2, 2))
-    dhq[:, 0] = np.einsum("ni,nij->nj", e, hgq[:, :2, :])
-    dhq[:, 1] = B[:, None] * hgq[:, 2, :]
-    dhq[:, 1, 1] += dB * g_n
-    return h, dhs, dhq
-
-
-class LawSurface:
-    r"""A protocol law, optionally with the slip hardening ``s(κ)`` of :class:`SlipHardening`.
-
-    :math:`\hat f(T, N, \kappa) = f(T, s(\kappa) N)`, :math:`\hat g = g(T, s(\kappa) N)`: the
-    law's gradients and its SymPy-derived Hessians are used through the chain rule. At the
-    apex ``T = 0`` of a cone the Hessian of ``|T|`` is unbounded; where it is not finite its
-    entries are set to 0, the Hessian of the minimal-norm subgradient used by the gradients.
-
-    Laws are defined for ``N >= 0``; Newton iterates with ``N < 0`` are evaluated at ``N = 0``.
-    Returns that end at the apex of a cone are recognized by :meth:`apex_region`.
-    """
-
-    def __init__(self, law, hardening=None):
+    def __init__(self, law):
         self.law = law
-        self.hardening = hardening
+        self.nq = len(law.state_names)
+        self._clip = not law.defined_in_tension
 
-    def scale(self, kappa):
-        if self.hardening is None:
-            return np.ones_like(kappa), np.zeros_like(kappa)
-        return self.hardening.scale(kappa), self.hardening.scale_derivative(kappa)
+    def _N(self, sigma):
+        return np.maximum(sigma[:, 2], 0.0) if self._clip else sigma[:, 2]
 
     def limit(self, sigma, q):
-        s, _ = self.scale(q[:, 0])
-        return self.law.limit(sigma[:, :2], s * np.maximum(sigma[:, 2], 0.0))
+        return self.law.limit(sigma[:, :2], self._N(sigma), q)
+
+    def evaluate(self, sigma, q) -> LocalDerivatives:
+        loc = self.law.local_derivatives(sigma[:, :2], self._N(sigma), q)
+        parts = {k: getattr(loc, k) for k in LocalDerivatives.__dataclass_fields__}
+        bad = ~np.isfinite(parts["f"])
+        if bad.any():
+            # a removable singularity of the symbolic f (e.g. 0/0 at T = 0): the law's own value
+            parts["f"] = parts["f"].copy()
+            parts["f"][bad] = self.limit(sigma[bad], q[bad])
+        for k, a in parts.items():
+            if k != "f":
+                parts[k] = np.where(np.isfinite(a), a, 0.0)
+        return LocalDerivatives(**parts)
 
     def apex_region(self, sigma_tr, q, Dv):
         r"""Trial forces whose backward-Euler return ends at the apex ``σ = 0`` of a cone.
@@ -120,84 +96,31 @@ class LawSurface:
         Tt = np.hypot(sigma_tr[:, 0], sigma_tr[:, 1])
         return (dg[:, 2] > 0) & (sigma_tr[:, 2] * Dv[0] * gt <= Tt * Dv[2] * dg[:, 2])
 
-    def evaluate(self, sigma, q) -> Local:
-        T, N = sigma[:, :2], np.maximum(sigma[:, 2], 0.0)
-        s, ds = self.scale(q[:, 0])
-        Ns = s * N
-        f = self.law.limit(T, Ns)
-        gf = self.law.limit_gradient(T, Ns)
-        gg = self.law.potential_gradient(T, Ns)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            H = self.law.potential_hessian(T, Ns)
-        # |T| -> 0 at the apex of a cone: the Hessian of |T| is unbounded (inf or nan); use
-        # that of the minimal-norm subgradient, 0, as the gradients do.
-        H = np.where(np.isfinite(H), H, 0.0)
-        S = np.stack((np.ones_like(s), np.ones_like(s), s), axis=-1)
-        df = gf * S
-        dfq = np.stack((gf[:, 2] * N * ds, np.zeros_like(s)), axis=-1)
-        dg = gg * S
-        hgg = S[:, :, None] * H * S[:, None, :]
-        hgq = np.zeros((len(s), 3, 2))
-        hgq[:, 0, 0] = H[:, 0, 2] * N * ds
-        hgq[:, 1, 0] = H[:, 1, 2] * N * ds
-        hgq[:, 2, 0] = ds * gg[:, 2] + s * H[:, 2, 2] * N * ds
-        zero = np.zeros_like(s)
-        h, dhs, dhq = _hardening_rates(dg, hgg, hgq, zero, zero, dg[:, 2])
-        return Local(f, df, dfq, dg, hgg, hgq, h, dhs, dhq)
 
-
-class CapSurface:
-    """The :class:`EllipsoidCap` with its own hardening A(κ, β), B(β)."""
-
-    def __init__(self, cap):
-        from .cap import _compiled_cap
-        self.cap = cap
-        self.fun = _compiled_cap(cap)
-
-    def limit(self, sigma, q):
-        return self.fun.f(sigma[:, 0], sigma[:, 1], sigma[:, 2], q[:, 0], q[:, 1])
-
-    def evaluate(self, sigma, q) -> Local:
-        args = (sigma[:, 0], sigma[:, 1], sigma[:, 2], q[:, 0], q[:, 1])
-        f = self.fun.f(*args)
-        gf = self.fun.grad_f(*args)
-        gg = self.fun.grad_g(*args)
-        H = self.fun.hess_g(*args)
-        dg, hgg, hgq = gg[:, :3], H[:, :3, :3], H[:, :3, 3:]
-        beta = q[:, 1]
-        h, dhs, dhq = _hardening_rates(dg, hgg, hgq, self.cap.B(beta), self.cap.B.derivative(beta),
-                                       dg[:, 2])
-        return Local(f, gf[:, :3], gf[:, 3:], dg, hgg, hgq, h, dhs, dhq)
-
-
-def surface_for(law, hardening=None):
-    from .cap import EllipsoidCap
-    if isinstance(law, EllipsoidCap):
-        return CapSurface(law)
-    return LawSurface(law, hardening)
-
-
-def _jacobian(loc: Local, dlam, Dv):
-    """Newton Jacobian of the backward-Euler residual in ``x = (sigma, q, Δλ)``, shape (n, 6, 6)."""
-    n = len(dlam)
-    J = np.zeros((n, 6, 6))
+def _jacobian(loc: LocalDerivatives, dlam, Dv):
+    """Newton Jacobian of the backward-Euler residual in ``x = (sigma, q, Δλ)``, shape
+    ``(n, 4 + nq, 4 + nq)``."""
+    n, nq = len(dlam), loc.h.shape[-1]
+    m = 3 + nq
+    J = np.zeros((n, m + 1, m + 1))
     lam = dlam[:, None, None]
     J[:, :3, :3] = np.eye(3) + lam * Dv[None, :, None] * loc.hgg
-    J[:, :3, 3:5] = lam * Dv[None, :, None] * loc.hgq
-    J[:, :3, 5] = Dv * loc.dg
-    J[:, 3:5, :3] = -lam * loc.dhs
-    J[:, 3:5, 3:5] = np.eye(2) - lam * loc.dhq
-    J[:, 3:5, 5] = -loc.h
-    J[:, 5, :3] = loc.df
-    J[:, 5, 3:5] = loc.dfq
+    J[:, :3, 3:m] = lam * Dv[None, :, None] * loc.hgq
+    J[:, :3, m] = Dv * loc.dg
+    J[:, 3:m, :3] = -lam * loc.dhs
+    J[:, 3:m, 3:m] = np.eye(nq) - lam * loc.dhq
+    J[:, 3:m, m] = -loc.h
+    J[:, m, :3] = loc.df
+    J[:, m, 3:m] = loc.dfq
     return J
 
 
-def _residual(loc: Local, sigma, q, dlam, sigma_tr, q_n, Dv):
-    R = np.empty((len(dlam), 6))
+def _residual(loc: LocalDerivatives, sigma, q, dlam, sigma_tr, q_n, Dv):
+    nq = q.shape[-1]
+    R = np.empty((len(dlam), 4 + nq))
     R[:, :3] = sigma - sigma_tr + dlam[:, None] * Dv * loc.dg
-    R[:, 3:5] = q - q_n - dlam[:, None] * loc.h
-    R[:, 5] = loc.f
+    R[:, 3:3 + nq] = q - q_n - dlam[:, None] * loc.h
+    R[:, 3 + nq] = loc.f
     return R
 
 
@@ -213,15 +136,21 @@ class ReturnResult:
 
 
 def _scales(surface, sigma_tr, q_n, Dv):
-    """Row and column scales that make the Newton system dimensionless."""
+    r"""Row and column scales that make the Newton system dimensionless.
+
+    Forces scale with :math:`F = |\sigma^{tr}|`, the multiplier with :math:`F/|D\nabla g|`
+    (the return of a step of size F), and each internal variable with the change that
+    multiplier gives it, :math:`|h_i| F/|D\nabla g|`, or its own size if that is larger.
+    """
     F = np.maximum(np.linalg.norm(sigma_tr, axis=-1), 1e-300)
-    ell = F / Dv.min()
     loc = surface.evaluate(sigma_tr, q_n)
     fs = np.maximum(np.linalg.norm(loc.df, axis=-1) * F, 1e-300)
     gs = np.maximum(np.linalg.norm(Dv * loc.dg, axis=-1), 1e-300)
-    one = np.ones_like(F)
-    rows = np.stack((1 / F, 1 / F, 1 / F, 1 / ell, one, 1 / fs), axis=-1)
-    cols = np.stack((F, F, F, ell, one, F / gs), axis=-1)
+    lam = F / gs
+    qs = np.maximum(np.maximum(np.abs(loc.h) * lam[:, None], np.abs(q_n)), 1e-300)
+    F3 = np.repeat(F[:, None], 3, axis=1)
+    rows = np.concatenate((1 / F3, 1 / qs, (1 / fs)[:, None]), axis=-1)
+    cols = np.concatenate((F3, qs, lam[:, None]), axis=-1)
     return rows, cols
 
 
@@ -240,14 +169,14 @@ def return_map(surface, sigma_tr, q_n, Dv) -> ReturnResult:
     merit = np.linalg.norm(R, axis=-1)
     active = np.ones(n, dtype=bool)
     for _ in range(_MAX_ITER):
-        active &= ~(merit <= _TOL)
+        active &= ~(merit <= TOL)
         idx = np.flatnonzero(active)
         if idx.size == 0:
             break
         sub = _take(loc, idx)
         J = _jacobian(sub, dlam[idx], Dv) * rows[idx, :, None] * cols[idx, None, :]
         ok = np.isfinite(J).all(axis=(1, 2))
-        J[~ok] = np.eye(6)
+        J[~ok] = np.eye(J.shape[-1])
         step = -np.linalg.solve(J, R[idx][..., None])[..., 0] * cols[idx]
         step[~ok] = 0.0
         alpha = np.ones(idx.size)
@@ -255,8 +184,8 @@ def return_map(surface, sigma_tr, q_n, Dv) -> ReturnResult:
         for _ in range(_MAX_HALVINGS):
             k = idx[pending]
             s_k = step[pending] * alpha[pending, None]
-            sig_k, q_k = sigma[k] + s_k[:, :3], q[k] + s_k[:, 3:5]
-            lam_k = dlam[k] + s_k[:, 5]
+            sig_k, q_k = sigma[k] + s_k[:, :3], q[k] + s_k[:, 3:-1]
+            lam_k = dlam[k] + s_k[:, -1]
             loc_k = surface.evaluate(sig_k, q_k)
             R_k = _residual(loc_k, sig_k, q_k, lam_k, sigma_tr[k], q_n[k], Dv) * rows[k]
             m_k = np.linalg.norm(R_k, axis=-1)
@@ -273,7 +202,7 @@ def return_map(surface, sigma_tr, q_n, Dv) -> ReturnResult:
         stuck = idx[pending]
         active[stuck] = False
         merit[stuck] = np.inf
-    converged = (merit <= _TOL) & (dlam >= 0)
+    converged = (merit <= TOL) & (dlam >= 0)
     J = _jacobian(loc, dlam, Dv)
     good = np.isfinite(J).all(axis=(1, 2)) & converged
     dsig = np.zeros((n, 3, 3))
@@ -282,19 +211,19 @@ def return_map(surface, sigma_tr, q_n, Dv) -> ReturnResult:
     return ReturnResult(sigma, q, dlam, converged & good, dsig)
 
 
-def _take(loc: Local, idx) -> Local:
-    return Local(*(getattr(loc, k)[idx] for k in Local.__dataclass_fields__))
+def _take(loc: LocalDerivatives, idx) -> LocalDerivatives:
+    return LocalDerivatives(*(getattr(loc, k)[idx] for k in LocalDerivatives.__dataclass_fields__))
 
 
-def _put(loc: Local, idx, new: Local) -> Local:
+def _put(loc: LocalDerivatives, idx, new: LocalDerivatives) -> LocalDerivatives:
     if len(idx) == 0:
         return loc
     out = {}
-    for k in Local.__dataclass_fields__:
+    for k in LocalDerivatives.__dataclass_fields__:
         a = getattr(loc, k).copy()
         a[idx] = getattr(new, k)
         out[k] = a
-    return Local(**out)
+    return LocalDerivatives(**out)
 
 
 def tangent_at(surface, sigma, q, dlam, Dv) -> np.ndarray:

@@ -7,6 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import check_scalar
+from ._records import Cone, InverseRelation
 from .base import FrictionLaw, as_slip, safe_ratio
 
 __all__ = ["Coulomb"]
@@ -35,6 +36,7 @@ class Coulomb(FrictionLaw):
 
     mu: float
     dilatant: bool = False
+    capabilities = frozenset({"symbolic", "cone", "closed_form_return"})
 
     def __post_init__(self):
         object.__setattr__(self, "mu", check_scalar("mu", self.mu, lo=0.0))
@@ -48,41 +50,52 @@ class Coulomb(FrictionLaw):
     def tangentially_associated(self) -> bool:
         return True
 
-    def limit(self, T, N):
+    def limit(self, T, N, q=None):
         T, N = self._inputs(T, N)
         return np.hypot(T[..., 0], T[..., 1]) - self.mu * N
 
-    def potential(self, T, N):
+    def potential(self, T, N, q=None):
         T, N = self._inputs(T, N)
         norm = np.hypot(T[..., 0], T[..., 1])
         return norm - self.mu * N if self.dilatant else norm + 0.0 * N
 
-    def limit_gradient(self, T, N):
+    def limit_gradient(self, T, N, q=None):
         T, N = self._inputs(T, N)
         norm = np.hypot(T[..., 0], T[..., 1])
         e1, e2 = safe_ratio(T[..., 0], norm), safe_ratio(T[..., 1], norm)
         return np.stack(np.broadcast_arrays(e1, e2, -self.mu + 0.0 * N), axis=-1)
 
-    def potential_gradient(self, T, N):
+    def potential_gradient(self, T, N, q=None):
         grad = self.limit_gradient(T, N)
         if not self.dilatant:
             grad[..., 2] = 0.0
         return grad
 
-    def symbolic(self):
+    def symbolic_form(self):
         import sympy
 
+        from ._symbolic import SymbolicLaw
         from .symbols import N, T1, T2
+        mu = sympy.Symbol("mu", nonnegative=True)
         norm = sympy.sqrt(T1**2 + T2**2)
-        f = norm - sympy.Float(self.mu) * N
-        return f, (f if self.dilatant else norm)
+        f = norm - mu * N
+        return SymbolicLaw(f, f if self.dilatant else norm, params=(mu,), values=(self.mu,))
 
-    def _force_at_angle(self, theta, N):
+    def cone(self, q=None) -> Cone:
+        """Circular cone; dilatancy ratio 1 for the dilatant rule (1.6), 0 for (1.5)."""
+        return Cone(self.mu, self.mu, 0.0, 1.0 if self.dilatant else 0.0)
+
+    def closed_form_return(self):
+        """The radial return of the compiled Coulomb kernel."""
+        from ._records import ClosedFormReturn
+        return ClosedFormReturn("coulomb", (self.mu, float(self.dilatant)))
+
+    def _inverse_relation(self, theta, N, q):
         """(1.8): :math:`T = \\mu N\\, v_t/|v_t|`."""
-        theta, N = np.broadcast_arrays(theta, N)
-        return self.mu * N[..., None] * np.stack((np.cos(theta), np.sin(theta)), axis=-1)
+        T = self.mu * N[..., None] * np.stack((np.cos(theta), np.sin(theta)), axis=-1)
+        return InverseRelation(T, np.zeros(theta.shape, dtype=bool))
 
-    def dissipation(self, v, N):
+    def dissipation(self, v, N, q=None):
         r"""(1.7): :math:`D = \mu N |v_t|` without dilatancy; with it ``-N vn`` is added."""
         v = as_slip(v)
         N = self._normal(N)

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import check_scalar
+from ._records import Cone, InverseRelation
 from .base import FrictionLaw, rotate, safe_ratio
 
 __all__ = ["EllipticOrthotropic", "Huber", "TransformedCoulomb"]
@@ -50,17 +51,24 @@ class _Orthotropic(FrictionLaw):
         g = rotate(np.stack(np.broadcast_arrays(ga, gb), axis=-1), self.angle)
         return np.concatenate((g, np.broadcast_to(gn, g.shape[:-1])[..., None]), axis=-1)
 
-    def _local_symbols(self):
+    def _symbols(self):
+        """Parameter symbols ``(m1, m2, angle)`` and the force in the principal frame."""
         import sympy
 
         from .symbols import T1, T2
-        c, s = sympy.cos(sympy.Float(self.angle)), sympy.sin(sympy.Float(self.angle))
-        return c * T1 + s * T2, -s * T1 + c * T2
+        m1, m2 = (sympy.Symbol(name, positive=True) for name in self._m_names)
+        angle = sympy.Symbol("angle", real=True)
+        c, s = sympy.cos(angle), sympy.sin(angle)
+        return (m1, m2, angle), (c * T1 + s * T2, -s * T1 + c * T2)
 
-    def _force_at_angle(self, theta, N):
-        theta, N = np.broadcast_arrays(theta, N)
+    def _form(self, f, g, params):
+        from ._symbolic import SymbolicLaw
+        return SymbolicLaw(f, g, params=params, values=(*self._m, self.angle))
+
+    def _inverse_relation(self, theta, N, q):
         t = theta - self.angle
-        return rotate(N[..., None] * self._local_force(np.cos(t), np.sin(t)), self.angle)
+        T = rotate(N[..., None] * self._local_force(np.cos(t), np.sin(t)), self.angle)
+        return InverseRelation(T, np.zeros(theta.shape, dtype=bool))
 
 
 class _EllipseLimit(_Orthotropic):
@@ -74,11 +82,11 @@ class _EllipseLimit(_Orthotropic):
         mx, my = self._m
         return np.sqrt((T[..., 0] / mx) ** 2 + (T[..., 1] / my) ** 2)
 
-    def limit(self, T, N):
+    def limit(self, T, N, q=None):
         T, N = self._local(T, N)
         return self._rho(T) - N
 
-    def limit_gradient(self, T, N):
+    def limit_gradient(self, T, N, q=None):
         T, N = self._local(T, N)
         mx, my = self._m
         rho = self._rho(T)
@@ -86,12 +94,13 @@ class _EllipseLimit(_Orthotropic):
                                      safe_ratio(T[..., 1] / my**2, rho), -1.0 + 0.0 * N)
 
     def _symbolic_limit(self):
+        """Parameter symbols, the symbolic limit and the force in the principal frame."""
         import sympy
 
         from .symbols import N
-        a, b = self._local_symbols()
-        mx, my = (sympy.Float(m) for m in self._m)
-        return sympy.sqrt((a / mx) ** 2 + (b / my) ** 2) - N
+        params, (a, b) = self._symbols()
+        mx, my, _ = params
+        return params, sympy.sqrt((a / mx) ** 2 + (b / my) ** 2) - N, (a, b)
 
 
 @dataclass(frozen=True)
@@ -115,23 +124,33 @@ class EllipticOrthotropic(_EllipseLimit):
     mu_x: float
     mu_y: float
     angle: float = 0.0
+    capabilities = frozenset({"symbolic", "cone", "closed_form_return"})
 
     @property
     def tangentially_associated(self) -> bool:
         return True
 
-    def potential(self, T, N):
+    def potential(self, T, N, q=None):
         T, N = self._local(T, N)
         return self._rho(T) + 0.0 * N
 
-    def potential_gradient(self, T, N):
+    def potential_gradient(self, T, N, q=None):
         grad = self.limit_gradient(T, N)
         grad[..., 2] = 0.0
         return grad
 
-    def slip_direction(self, T, N):
+    def cone(self, q=None) -> Cone:
+        """The elliptic cone (1.9) with tangential normality and no normal slip."""
+        return Cone(self.mu_x, self.mu_y, self.angle, 0.0)
+
+    def closed_form_return(self):
+        """The closest-point return of the compiled elliptic kernel."""
+        from ._records import ClosedFormReturn
+        return ClosedFormReturn("elliptic", (self.mu_x, self.mu_y, self.angle))
+
+    def slip_direction(self, T, N, q=None):
         r"""(1.10) normalized: the factor 1/rho of the gradient cancels, so the slip is the unit
-        vector along :math:`R(	ext{angle})(T'_1/\mu_x^2, T'_2/\mu_y^2)` with no normal part."""
+        vector along :math:`R(\text{angle})(T'_1/\mu_x^2, T'_2/\mu_y^2)` with no normal part."""
         T, N = self._local(T, N)
         mx, my = self._m
         shape = np.broadcast_shapes(T.shape[:-1], N.shape)
@@ -147,10 +166,10 @@ class EllipticOrthotropic(_EllipseLimit):
             v[..., 0], v[..., 1] = c * ga - s * gb, s * ga + c * gb
         return v
 
-    def symbolic(self):
+    def symbolic_form(self):
         from .symbols import N
-        f = self._symbolic_limit()
-        return f, f + N
+        params, f, _ = self._symbolic_limit()
+        return self._form(f, f + N, params)
 
     def _local_force(self, c, s):
         """(1.13) per unit N: :math:`T' = (\\mu_x^2 c, \\mu_y^2 s)/\\sqrt{(\\mu_x c)^2+(\\mu_y s)^2}`."""
@@ -172,24 +191,25 @@ class TransformedCoulomb(_EllipseLimit):
     mu_x: float
     mu_y: float
     angle: float = 0.0
+    capabilities = frozenset({"symbolic"})
 
-    def potential(self, T, N):
+    def potential(self, T, N, q=None):
         T, N = self._local(T, N)
         mx, my = self._m
         return np.sqrt(T[..., 0] ** 2 / mx + T[..., 1] ** 2 / my) + 0.0 * N
 
-    def potential_gradient(self, T, N):
+    def potential_gradient(self, T, N, q=None):
         T, N = self._local(T, N)
         mx, my = self._m
         g = np.sqrt(T[..., 0] ** 2 / mx + T[..., 1] ** 2 / my)
         return self._global_gradient(safe_ratio(T[..., 0] / mx, g), safe_ratio(T[..., 1] / my, g),
                                      0.0 * N)
 
-    def symbolic(self):
+    def symbolic_form(self):
         import sympy
-        a, b = self._local_symbols()
-        mx, my = (sympy.Float(m) for m in self._m)
-        return self._symbolic_limit(), sympy.sqrt(a**2 / mx + b**2 / my)
+        params, f, (a, b) = self._symbolic_limit()
+        mx, my, _ = params
+        return self._form(f, sympy.sqrt(a**2 / mx + b**2 / my), params)
 
     def _local_force(self, c, s):
         """(1.18) per unit N: :math:`T' = (\\mu_x c, \\mu_y s)`."""
@@ -219,6 +239,7 @@ class Huber(_Orthotropic):
     mu_2: float
     angle: float = 0.0
     _m_names = ("mu_1", "mu_2")
+    capabilities = frozenset({"symbolic"})
 
     def _mu_of_force(self, T):
         m1, m2 = self._m
@@ -226,12 +247,12 @@ class Huber(_Orthotropic):
         mu = safe_ratio(m1 * T[..., 0] ** 2 + m2 * T[..., 1] ** 2, rho2)
         return np.where(rho2 > 0, mu, min(m1, m2)), rho2
 
-    def limit(self, T, N):
+    def limit(self, T, N, q=None):
         T, N = self._local(T, N)
         mu, rho2 = self._mu_of_force(T)
         return np.sqrt(rho2) - mu * N
 
-    def limit_gradient(self, T, N):
+    def limit_gradient(self, T, N, q=None):
         T, N = self._local(T, N)
         m1, m2 = self._m
         mu, rho2 = self._mu_of_force(T)
@@ -240,25 +261,25 @@ class Huber(_Orthotropic):
         k = safe_ratio(2.0 * N * (m1 - m2) * a * b, rho2**2)
         return self._global_gradient(safe_ratio(a, rho) - k * b, safe_ratio(b, rho) + k * a, -mu)
 
-    def potential(self, T, N):
+    def potential(self, T, N, q=None):
         T, N = self._inputs(T, N)
         return np.hypot(T[..., 0], T[..., 1]) + 0.0 * N
 
-    def potential_gradient(self, T, N):
+    def potential_gradient(self, T, N, q=None):
         T, N = self._inputs(T, N)
         rho = np.hypot(T[..., 0], T[..., 1])
         zero = 0.0 * (rho + N)
         return np.stack((safe_ratio(T[..., 0], rho) + zero, safe_ratio(T[..., 1], rho) + zero, zero),
                         axis=-1)
 
-    def symbolic(self):
+    def symbolic_form(self):
         import sympy
 
         from .symbols import N, T1, T2
-        a, b = self._local_symbols()
-        m1, m2 = (sympy.Float(m) for m in self._m)
+        params, (a, b) = self._symbols()
+        m1, m2, _ = params
         rho = sympy.sqrt(T1**2 + T2**2)
-        return rho - N * (m1 * a**2 + m2 * b**2) / (a**2 + b**2), rho
+        return self._form(rho - N * (m1 * a**2 + m2 * b**2) / (T1**2 + T2**2), rho, params)
 
     def _local_force(self, c, s):
         """(1.16) per unit N: :math:`T' = \\mu(\\theta')(c, s)`."""

@@ -1,4 +1,10 @@
-"""A law written by the user as SymPy expressions f(T1, T2, N) and g(T1, T2, N)."""
+r"""A law written by the user: f and g (and the evolution of internal variables) as expressions.
+
+Expressions are SymPy expressions or strings in the force symbols ``T1, T2, N``, the names of
+the law's parameters and of its internal variables. Strings are read by a whitelist parser
+(numbers, those names, ``+ - * / **``, parentheses and a fixed list of functions): they are
+never evaluated as code.
+"""
 
 from __future__ import annotations
 
@@ -6,65 +12,178 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import FrictionRulesError
+from ..errors import FrictionRulesError, check_finite
 from .base import FrictionLaw
 
 __all__ = ["UserLaw"]
 
+#: Names a rate expression may use for the gradient of g (replaced by the derivatives).
+GRADIENT_NAMES = ("dg_dT1", "dg_dT2", "dg_dN")
+#: A rate given as this string is the accumulated-slip rate |dg/dT| ((4.5)).
+SLIP = "slip"
+_RESERVED = ("T1", "T2", "N") + GRADIENT_NAMES
 
-def _expression(name: str, value):
+
+def _symbol(name: str):
+    import sympy
+    return sympy.Symbol(name, real=True)
+
+
+def _check_name(kind: str, name) -> str:
+    if not isinstance(name, str) or not name.isidentifier() or name.startswith("_"):
+        raise FrictionRulesError(f"{kind} name {name!r} violates: an identifier not starting "
+                                 "with '_'")
+    if name in _RESERVED:
+        raise FrictionRulesError(f"{kind} name {name!r} violates: reserved names {_RESERVED}")
+    return name
+
+
+def _parse(text: str, symbols: dict, name: str):
+    """A law string as a SymPy expression, by the whitelist parser."""
+    from ._expr import parse_expression
+    return parse_expression(text, symbols, name=name)
+
+
+def _expression(name: str, value, symbols: dict):
+    """``value`` (string or SymPy expression) in the allowed ``symbols`` (name -> Symbol)."""
     import sympy
 
-    from .symbols import N, T1, T2
-    allowed = {"T1": T1, "T2": T2, "N": N}
-    try:
-        expr = sympy.sympify(value, locals=allowed) if isinstance(value, str) else sympy.sympify(value)
-    except (sympy.SympifyError, TypeError, SyntaxError) as exc:
-        raise FrictionRulesError(f"{name} = {value!r} is not a SymPy expression") from exc
-    unknown = expr.free_symbols - {T1, T2, N}
+    if isinstance(value, str):
+        expr = _parse(value, symbols, name)
+    elif isinstance(value, (int, float)) and not isinstance(value, bool):
+        expr = sympy.Float(check_finite(name, value).item())
+    elif isinstance(value, sympy.Basic):
+        # symbols the user made with other assumptions are matched by name
+        expr = value.xreplace({s: symbols[s.name] for s in value.free_symbols
+                               if getattr(s, "name", None) in symbols})
+    else:
+        raise FrictionRulesError(f"{name} = {value!r} violates: a string or a SymPy expression")
+    unknown = expr.free_symbols - set(symbols.values())
     if unknown:
         raise FrictionRulesError(
-            f"{name} = {expr} uses the symbols {sorted(map(str, unknown))}; constraint: only T1, T2, N "
-            "(import them with `from frictionrules import T1, T2, N`, put numbers for parameters)")
+            f"{name} = {expr} uses the symbols {sorted(map(str, unknown))}; constraint: only "
+            f"{', '.join(symbols)} (declare parameters in params=, internal variables in state=)")
+    if expr.has(sympy.zoo, sympy.nan, sympy.oo, -sympy.oo):
+        raise FrictionRulesError(f"{name} = {expr} violates: must be finite")
     return expr
 
 
-@dataclass(frozen=True)
+def _items(name: str, value) -> tuple:
+    if value is None:
+        return ()
+    if isinstance(value, dict):
+        return tuple(value.items())
+    try:
+        return tuple((k, v) for k, v in value)
+    except (TypeError, ValueError):
+        raise FrictionRulesError(f"{name} = {value!r} violates: a mapping name -> value") from None
+
+
+@dataclass(frozen=True, init=False)
 class UserLaw(FrictionLaw):
     r"""A friction law given by its limit condition f and sliding potential g.
 
-    Both are SymPy expressions (or strings) in the symbols ``T1, T2, N`` exported by
-    :mod:`frictionrules`. Their gradients and Hessians are derived symbolically and compiled to
-    NumPy; the inverse relation ``force_for_slip`` is solved numerically (see
-    :meth:`FrictionLaw.force_for_slip`).
-
     Parameters
     ----------
-    limit : sympy.Expr or str
-        f(T1, T2, N): negative inside, zero on the limit surface.
-    potential : sympy.Expr or str, optional
-        g(T1, T2, N); the law is associated (g = f) when omitted.
+    limit : str or sympy.Expr
+        f(T1, T2, N, params, state): negative inside, zero on the limit surface.
+    potential : str or sympy.Expr, optional
+        g; the law is associated (g = f) when omitted.
+    params : dict, optional
+        Named parameters and their values, e.g. ``{"mu": 0.3}``; in the expressions they are
+        symbols, so :func:`frictionrules.fit`, equality, hashing, TOML files and code generation
+        treat them like the parameters of a built-in law.
+    state : dict, optional
+        Named internal variables and their values in a virgin contact, e.g. ``{"kappa": 0.0}``.
+    rates : dict, optional
+        Their evolution per unit plastic multiplier, :math:`h = \dot q/\dot\lambda` ((4.5)),
+        one expression per internal variable; it may use ``dg_dT1, dg_dT2, dg_dN`` for the
+        gradient of g, and the string ``"slip"`` stands for the accumulated-slip rate
+        :math:`|\partial g/\partial T|`.
+
+    Gradients and Hessians are derived symbolically; at a kink (the apex of a cone) the
+    minimal-norm subgradient is used. The inverse relation is solved numerically.
 
     Examples
     --------
-    >>> import sympy
-    >>> from frictionrules import UserLaw, T1, T2, N
-    >>> law = UserLaw(sympy.sqrt(T1**2 + T2**2) - 0.3 * N, potential=sympy.sqrt(T1**2 + T2**2))
+    >>> from frictionrules import UserLaw
+    >>> law = UserLaw("sqrt(T1**2 + T2**2) - mu*N", potential="sqrt(T1**2 + T2**2)",
+    ...               params={"mu": 0.3})
     >>> float(law.limit([0.3, 0.0], 1.0))
     0.0
+    >>> law.replace(mu=0.4).parameters
+    {'mu': 0.4}
     """
 
     limit_expr: object
-    potential_expr: object = None
+    potential_expr: object
+    params: tuple
+    state: tuple
+    rates: tuple
 
-    def __init__(self, limit, potential=None):
-        object.__setattr__(self, "limit_expr", _expression("limit", limit))
-        object.__setattr__(self, "potential_expr",
-                           None if potential is None else _expression("potential", potential))
+    def __init__(self, limit, potential=None, params=None, state=None, rates=None):
+        import sympy
 
-    def _compiled(self):
-        from ._derived import compiled
-        return compiled(self)
+        from .symbols import N, T1, T2
+        params = tuple((_check_name("parameter", k), check_finite(k, v).item() if np.ndim(v) == 0
+                        else _scalar_error(k, v)) for k, v in _items("params", params))
+        state = tuple((_check_name("internal variable", k), check_finite(k, v).item()
+                       if np.ndim(v) == 0 else _scalar_error(k, v)) for k, v in _items("state", state))
+        names = [k for k, _ in params] + [k for k, _ in state]
+        if len(set(names)) != len(names):
+            raise FrictionRulesError(f"params and state names {names} violate: names must be distinct")
+        symbols = {"T1": T1, "T2": T2, "N": N, **{k: _symbol(k) for k in names}}
+        f = _expression("limit", limit, symbols)
+        g = None if potential is None else _expression("potential", potential, symbols)
+        rate_map = dict(_items("rates", rates))
+        missing = [k for k, _ in state if k not in rate_map]
+        extra = sorted(set(rate_map) - {k for k, _ in state})
+        if missing or extra:
+            raise FrictionRulesError(f"rates {sorted(rate_map)} violate: one rate per internal "
+                                     f"variable {[k for k, _ in state]} (missing {missing}, "
+                                     f"unknown {extra})")
+        grad_syms = {n: _symbol(n) for n in GRADIENT_NAMES}
+        rate_exprs = []
+        for k, _ in state:
+            r = rate_map[k]
+            if isinstance(r, str) and r.strip() == SLIP:
+                rate_exprs.append(sympy.Symbol(SLIP))
+            else:
+                rate_exprs.append(_expression(f"rates[{k!r}]", r, {**symbols, **grad_syms}))
+        object.__setattr__(self, "limit_expr", f)
+        object.__setattr__(self, "potential_expr", g)
+        object.__setattr__(self, "params", params)
+        object.__setattr__(self, "state", state)
+        object.__setattr__(self, "rates", tuple(rate_exprs))
+
+    # ---- protocol ----------------------------------------------------------------------------
+    @property
+    def capabilities(self) -> frozenset:
+        from ._cone import cone_of
+        return frozenset({"symbolic"} | ({"cone"} if cone_of(self) is not None else set()))
+
+    @property
+    def state_names(self) -> tuple[str, ...]:
+        return tuple(k for k, _ in self.state)
+
+    def initial_values(self) -> dict[str, float]:
+        return dict(self.state)
+
+    @property
+    def parameters(self) -> dict[str, float]:
+        return dict(self.params)
+
+    def replace(self, **changes) -> "UserLaw":
+        unknown = sorted(set(changes) - set(self.parameters))
+        if unknown:
+            raise FrictionRulesError(f"parameters {unknown} violate: the law's parameters are "
+                                     f"{sorted(self.parameters)}")
+        return UserLaw(self.limit_expr, self.potential_expr, {**self.parameters, **changes},
+                       dict(self.state), dict(zip(self.state_names, self._rate_inputs())))
+
+    def _rate_inputs(self):
+        import sympy
+        return [SLIP if r == sympy.Symbol(SLIP) else r for r in self.rates]
 
     @property
     def associated(self) -> bool:
@@ -72,7 +191,7 @@ class UserLaw(FrictionLaw):
 
     @property
     def tangentially_associated(self) -> bool:
-        """True when f - g depends on N only (a sufficient condition for in-plane normality)."""
+        """True when f - g depends on N (and the state) only: in-plane normality."""
         import sympy
 
         from .symbols import T1, T2
@@ -81,26 +200,37 @@ class UserLaw(FrictionLaw):
         diff = self.limit_expr - self.potential_expr
         return all(sympy.simplify(sympy.diff(diff, s)) == 0 for s in (T1, T2))
 
-    def symbolic(self):
-        return self.limit_expr, (self.limit_expr if self.potential_expr is None else self.potential_expr)
+    def symbolic_form(self):
+        import sympy
 
-    def _eval(self, fun, T, N):
-        T, N = self._inputs(T, N)
-        out = fun(T[..., 0], T[..., 1], N)
-        if not np.all(np.isfinite(out)):
-            raise FrictionRulesError(
-                f"the user law is not finite at some of the given points (T, N); f = {self.limit_expr}, "
-                f"g = {self.symbolic()[1]}: evaluate it away from its singular points")
-        return out
+        from ._symbolic import SymbolicLaw, slip_rate
+        from .symbols import N, T1, T2
+        f = self.limit_expr
+        g = f if self.potential_expr is None else self.potential_expr
+        grads = {_symbol(n): sympy.diff(g, s) for n, s in zip(GRADIENT_NAMES, (T1, T2, N))}
+        grads[sympy.Symbol(SLIP)] = slip_rate(g)
+        rates = tuple(r.xreplace(grads) for r in self.rates)
+        return SymbolicLaw(f, g, state=tuple(_symbol(k) for k in self.state_names), rates=rates,
+                           params=tuple(_symbol(k) for k, _ in self.params),
+                           values=tuple(v for _, v in self.params))
 
-    def limit(self, T, N):
-        return self._eval(self._compiled().f, T, N)
+    def cone(self, q=None):
+        """The elliptic-cone form, when f and g have one (see :mod:`._cone`)."""
+        from ._cone import cone_of
+        from .base import require
+        require(self, "cone", "UserLaw.cone()")
+        return cone_of(self)
 
-    def potential(self, T, N):
-        return self._eval(self._compiled().g, T, N)
+    def __repr__(self) -> str:
+        parts = [f"limit={str(self.limit_expr)!r}"]
+        if self.potential_expr is not None:
+            parts.append(f"potential={str(self.potential_expr)!r}")
+        if self.params:
+            parts.append(f"params={dict(self.params)!r}")
+        if self.state:
+            parts.append(f"state={dict(self.state)!r}")
+        return f"UserLaw({', '.join(parts)})"
 
-    def limit_gradient(self, T, N):
-        return self._eval(self._compiled().grad_f, T, N)
 
-    def potential_gradient(self, T, N):
-        return self._eval(self._compiled().grad_g, T, N)
+def _scalar_error(name, value):
+    raise FrictionRulesError(f"{name} = {value!r} violates: must be a real number")

@@ -24,7 +24,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import FrictionRulesError, check_finite, check_scalar
-from .base import FrictionLaw, _Locked, safe_ratio
+from ._records import InverseRelation
+from .base import FrictionLaw, safe_ratio
 
 __all__ = ["WedgeAsperity"]
 
@@ -64,6 +65,7 @@ class WedgeAsperity(FrictionLaw):
     mu: float
     local: str = "non-associated"
     normal_name = "Q"
+    capabilities = frozenset({"symbolic"})
 
     def __post_init__(self):
         object.__setattr__(self, "alpha", check_scalar("alpha", self.alpha, lo=0.0, hi=np.pi,
@@ -104,7 +106,7 @@ class WedgeAsperity(FrictionLaw):
             return "parabola"
         return "ellipse" if a > 0 else "hyperbola"
 
-    def centre(self, Q) -> np.ndarray:
+    def centre(self, Q, q=None) -> np.ndarray:
         """Load on the cone axis (no in-plane force): ``(Q tan(alpha), 0)``, the centre of the
         potential ellipse (2.6); for a vertical plane a point inside the limit curve."""
         Q = np.asarray(Q, dtype=float)
@@ -143,11 +145,11 @@ class WedgeAsperity(FrictionLaw):
         return T[np.hypot(T[:, 0], T[:, 1]) <= max_load * max(Q, 1e-300)]
 
     # ---- protocol --------------------------------------------------------------------------
-    def limit(self, T, Q):
+    def limit(self, T, Q, q=None):
         t1, t2, n = np.moveaxis(self.plane_forces(T, Q), -1, 0)
         return np.hypot(t1, t2) - self.mu * n
 
-    def potential(self, T, Q):
+    def potential(self, T, Q, q=None):
         t1, t2, n = np.moveaxis(self.plane_forces(T, Q), -1, 0)
         return np.hypot(t1, t2) - (self.mu * n if self.associated else 0.0)
 
@@ -159,23 +161,27 @@ class WedgeAsperity(FrictionLaw):
         m = self.mu * sig if friction else 0.0
         return np.stack((c * e1 - m * s, e2, -s * e1 - m * c), axis=-1)
 
-    def limit_gradient(self, T, Q):
+    def limit_gradient(self, T, Q, q=None):
         return self._gradient(T, Q, True)
 
-    def potential_gradient(self, T, Q):
+    def potential_gradient(self, T, Q, q=None):
         return self._gradient(T, Q, self.associated)
 
-    def symbolic(self):
+    def symbolic_form(self):
+        """(2.2) and (2.6) in ``(T1, T2, N) = (Tx, Ty, Q)`` with the symbols ``alpha, mu``."""
         import sympy
 
+        from ._symbolic import SymbolicLaw
         from .symbols import N, T1, T2
-        c, s, sig = self._cs
-        c, s, mu = sympy.Float(c), sympy.Float(s), sympy.Float(self.mu)
+        alpha = sympy.Symbol("alpha", positive=True)
+        mu = sympy.Symbol("mu", nonnegative=True)
+        c, s = sympy.cos(alpha), sympy.sin(alpha)
         t = sympy.sqrt((T1 * c - N * s) ** 2 + T2**2)
-        f = t - mu * sig * (T1 * s + N * c)
-        return f, (f if self.associated else t)
+        f = t - mu * sympy.sign(c) * (T1 * s + N * c)
+        return SymbolicLaw(f, f if self.associated else t, params=(alpha, mu),
+                           values=(self.alpha, self.mu))
 
-    def slip_direction(self, T, Q):
+    def slip_direction(self, T, Q, q=None):
         """Unit block velocity ``(Vx, Vy, Vz)`` (2.3), (2.7); ``Vz > 0`` upwards.
 
         Raises :class:`FrictionRulesError` where the normal force on the plane is negative.
@@ -210,20 +216,14 @@ class WedgeAsperity(FrictionLaw):
         phi = np.where(along[0] >= along[1], phis[0], phis[1])
         return phi, ok & (np.max(along, axis=0) > 0)
 
-    def _force_at_angle(self, theta, Q):
+    def _inverse_relation(self, theta, Q, q):
         """Closed-form inverse: the in-plane angle that slides at ``theta``, then
         :meth:`limit_point`. The direction locks (no finite force, ``inf``) where that point does
         not exist."""
         if abs(self._cs[0]) < 1e-9:
-            return super()._force_at_angle(theta, Q)
-        theta, Q = np.broadcast_arrays(np.asarray(theta, dtype=float), Q)
+            return super()._inverse_relation(theta, Q, q)
         phi, ok = self._plane_angle(theta)
         T = self.limit_point(phi, Q)
         ok = ok & np.isfinite(T[..., 0])
-        if not ok.all():
-            T[~ok] = np.inf
-            first = tuple(np.argwhere(~ok)[0])
-            raise _Locked(f"the wedge (alpha = {self.alpha!r}, mu = {self.mu!r}) locks for slip at "
-                          f"theta = {float(theta[first])!r} rad: no finite horizontal force slides "
-                          "it that way", T)
-        return T
+        T[~ok] = np.inf
+        return InverseRelation(T, ~ok)

@@ -36,14 +36,15 @@ Sign convention: in frictionrules the normal plastic displacement is positive on
 
 from __future__ import annotations
 
-import functools
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import check_finite, check_scalar
+from ..errors import FrictionRulesError, check_finite, check_scalar
+from ._state import LawState
+from .base import FrictionLaw
 
-__all__ = ["AreaGrowth", "AreaHardening", "EllipsoidCap"]
+__all__ = ["AreaGrowth", "AreaHardening", "EllipsoidCap", "state_symbols"]
 
 
 @dataclass(frozen=True)
@@ -108,7 +109,7 @@ class AreaGrowth:
 
 
 @dataclass(frozen=True)
-class EllipsoidCap:
+class EllipsoidCap(FrictionLaw):
     r"""Ellipsoidal yield surface (4.9) with hardening by slip (κ) and contact area (β).
 
     .. math:: f = (N - A(\kappa,\beta))^2 + |T|^2/m^2 - A(\kappa,\beta)^2, \qquad
@@ -116,10 +117,11 @@ class EllipsoidCap:
 
     ``normal_ratio`` :math:`\omega = 1` is the associated rule (4.8); ``ω < 1`` scales the
     normal slip (dilatancy and compaction) down. ``ω = 0`` is excluded: without normal slip
-    β never changes and a normal force beyond ``2A`` could not be accommodated. The
-    hardening variables evolve by (4.5): :math:`\dot\kappa = \dot\lambda\,|\partial g/\partial T|`,
-    :math:`\dot\beta = B(\beta)\,\dot\lambda\,\partial g/\partial N` (compaction positive, see
-    the module notes). The hardening modulus is (4.7)/(4.11).
+    β never changes and a normal force beyond ``2A`` could not be accommodated. The internal
+    variables ``q = (kappa, beta)`` evolve by (4.5): :math:`\dot\kappa = \dot\lambda\,|\partial
+    g/\partial T|`, :math:`\dot\beta = B(\beta)\,\dot\lambda\,\partial g/\partial N`
+    (compaction positive, see the module notes); a virgin contact has ``κ = 0, β = 0.5``. The
+    hardening modulus is (4.7)/(4.11).
 
     Parameters
     ----------
@@ -131,119 +133,126 @@ class EllipsoidCap:
         B(β) of (4.5).
     normal_ratio : float
         ω > 0 (1: associated).
+
+    Notes
+    -----
+    The methods take the state as ``q`` (a :class:`LawState` of ``kappa, beta``, or an array
+    ``(..., 2)``); the form ``limit(T, N, kappa, beta)`` with the two variables as separate
+    arguments is also accepted.
     """
 
     m: float
     A: AreaHardening = field(default_factory=AreaHardening)
     B: AreaGrowth = field(default_factory=AreaGrowth)
     normal_ratio: float = 1.0
+    state_names = ("kappa", "beta")
+    capabilities = frozenset({"symbolic", "closed_form_return"})
+    defined_in_tension = True
 
     def __post_init__(self):
         object.__setattr__(self, "m", check_scalar("m", self.m, lo=0.0, lo_open=True))
         object.__setattr__(self, "normal_ratio", check_scalar("normal_ratio", self.normal_ratio, lo=0.0,
                                                               lo_open=True))
         if not isinstance(self.A, AreaHardening):
-            from ..errors import FrictionRulesError
             raise FrictionRulesError(f"A = {self.A!r} violates: must be an AreaHardening")
         if not isinstance(self.B, AreaGrowth):
-            from ..errors import FrictionRulesError
             raise FrictionRulesError(f"B = {self.B!r} violates: must be an AreaGrowth")
 
     @property
     def associated(self) -> bool:
         return self.normal_ratio == 1.0
 
-    def symbolic(self):
-        """``(f, g)`` as SymPy expressions in ``T1, T2, N, kappa, beta`` (see :func:`state_symbols`)."""
+    def initial_values(self) -> dict[str, float]:
+        return {"kappa": 0.0, "beta": 0.5}
+
+    def _check_state(self, q):
+        if np.any(q[..., 0] < 0):
+            raise FrictionRulesError("kappa violates kappa >= 0 (accumulated slip)")
+        if np.any((q[..., 1] <= 0) | (q[..., 1] >= 1)):
+            raise FrictionRulesError("beta violates 0 < beta < 1 (fraction of real contact area)")
+
+    @property
+    def parameters(self) -> dict[str, float]:
+        return {"m": self.m, "normal_ratio": self.normal_ratio, "p": self.A.p, "h": self.A.h,
+                "kappa_h": self.A.kappa_h, "b": self.B.b}
+
+    def replace(self, **changes) -> "EllipsoidCap":
+        unknown = sorted(set(changes) - set(self.parameters))
+        if unknown:
+            raise FrictionRulesError(f"parameters {unknown} violate: the law's parameters are "
+                                     f"{sorted(self.parameters)}")
+        v = {**self.parameters, **changes}
+        return EllipsoidCap(v["m"], AreaHardening(v["p"], v["h"], v["kappa_h"]), AreaGrowth(v["b"]),
+                            v["normal_ratio"])
+
+    def symbolic_form(self):
+        """``(f, g)`` of (4.9) and the rates (4.5) in ``T1, T2, N, kappa, beta``."""
         import sympy
 
-        from ..laws.symbols import N, T1, T2
+        from ._symbolic import SymbolicLaw, slip_rate
+        from .symbols import N, T1, T2
         kappa, beta = state_symbols()
-        A = self.A.symbolic(kappa, beta)
-        m2 = sympy.Float(self.m) ** 2
-        t2 = (T1**2 + T2**2) / m2
+        m, om, p, h, kh, b = sympy.symbols("m normal_ratio p h kappa_h b", positive=True)
+        h = sympy.Symbol("h", real=True)
+        A = p * beta * (1 + h * (1 - sympy.exp(-kappa / kh)))
+        t2 = (T1**2 + T2**2) / m**2
         f = (N - A) ** 2 + t2 - A**2
-        g = sympy.Float(self.normal_ratio) * (N - A) ** 2 + t2
-        return f, g
+        g = om * (N - A) ** 2 + t2
+        rates = (slip_rate(g), b * beta * (1 - beta) * sympy.diff(g, N))
+        return SymbolicLaw(f, g, state=(kappa, beta), rates=rates, params=(m, om, p, h, kh, b),
+                           values=(self.m, self.normal_ratio, self.A.p, self.A.h, self.A.kappa_h,
+                                   self.B.b))
 
-    def _args(self, T, N, kappa, beta):
-        T = check_finite("T", T)
-        return np.broadcast_arrays(T[..., 0], T[..., 1], check_finite("N", N),
-                                   check_finite("kappa", kappa), check_finite("beta", beta))
+    def closed_form_return(self):
+        """The reduced Newton return of the compiled cap kernel (default A, B)."""
+        from ._records import ClosedFormReturn
+        return ClosedFormReturn("cap", (self.m, self.normal_ratio, self.A.p, self.A.h,
+                                        self.A.kappa_h, self.B.b))
 
-    def limit(self, T, N, kappa=0.0, beta=0.5):
+    def _cap_state(self, q, beta):
+        """``q`` as given, or the separate ``(kappa, beta)`` arguments as a state."""
+        if beta is None and (q is None or isinstance(q, LawState) or np.ndim(q) and
+                             np.shape(q)[-1] == 2):
+            return q
+        kappa = 0.0 if q is None else q
+        beta = 0.5 if beta is None else beta
+        kappa, beta = np.broadcast_arrays(check_finite("kappa", kappa), check_finite("beta", beta))
+        return np.stack((kappa, beta), axis=-1)
+
+    def limit(self, T, N, q=None, beta=None):
         """f of (4.9): < 0 inside, 0 on the surface."""
-        return _compiled_cap(self).f(*self._args(T, N, kappa, beta))
+        return super().limit(T, N, self._cap_state(q, beta))
 
-    def potential(self, T, N, kappa=0.0, beta=0.5):
+    def potential(self, T, N, q=None, beta=None):
         """g = ω (N - A)^2 + |T|^2/m^2 (= f + A^2 when associated)."""
-        return _compiled_cap(self).g(*self._args(T, N, kappa, beta))
+        return super().potential(T, N, self._cap_state(q, beta))
 
-    def limit_gradient(self, T, N, kappa=0.0, beta=0.5):
-        """``(df/dT1, df/dT2, df/dN, df/dkappa, df/dbeta)``, shape ``(..., 5)``."""
-        return _compiled_cap(self).grad_f(*self._args(T, N, kappa, beta))
+    def limit_gradient(self, T, N, q=None, beta=None):
+        """``(df/dT1, df/dT2, df/dN)``, shape ``(..., 3)``."""
+        return super().limit_gradient(T, N, self._cap_state(q, beta))
 
-    def potential_gradient(self, T, N, kappa=0.0, beta=0.5):
-        """``(dg/dT1, dg/dT2, dg/dN, dg/dkappa, dg/dbeta)``, shape ``(..., 5)``."""
-        return _compiled_cap(self).grad_g(*self._args(T, N, kappa, beta))
+    def potential_gradient(self, T, N, q=None, beta=None):
+        """``(dg/dT1, dg/dT2, dg/dN)``, shape ``(..., 3)``."""
+        return super().potential_gradient(T, N, self._cap_state(q, beta))
 
-    def potential_hessian(self, T, N, kappa=0.0, beta=0.5):
-        """Second derivatives of g in ``(T1, T2, N, kappa, beta)``, shape ``(..., 5, 5)``, derived symbolically."""
-        return _compiled_cap(self).hess_g(*self._args(T, N, kappa, beta))
-
-    def hardening_modulus(self, T, N, kappa=0.0, beta=0.5):
+    def hardening_modulus(self, T, N, q=None, beta=None):
         r"""H of (4.7): :math:`H = -[f_{,\kappa}|g_{,T}| + f_{,\beta} B(\beta) g_{,N}]`.
 
         For the associated cap this is (4.11),
         :math:`H = 2[f_{,\beta}(A - N)B - f_{,\kappa}(|T|^2/m^4)^{1/2}]`.
         """
-        gf = self.limit_gradient(T, N, kappa, beta)
-        gg = self.potential_gradient(T, N, kappa, beta)
-        beta = np.broadcast_to(np.asarray(beta, dtype=float), gf.shape[:-1])
-        return -(gf[..., 3] * np.hypot(gg[..., 0], gg[..., 1]) + gf[..., 4] * self.B(beta) * gg[..., 2])
+        return super().hardening_modulus(T, N, self._cap_state(q, beta))
+
+    def centre(self, N, q=None) -> np.ndarray:
+        N = np.asarray(N, dtype=float)
+        return np.zeros(N.shape + (2,))
+
+    def _normal(self, N) -> np.ndarray:
+        """The cap is defined for every N (it closes at N = 0 and N = 2A)."""
+        return check_finite("N", N)
 
 
 def state_symbols():
     """The SymPy symbols ``kappa, beta`` of the hardening variables."""
     import sympy
-    return sympy.symbols("kappa beta", real=True)
-
-
-@functools.lru_cache(maxsize=64)
-def _compiled_cap(cap: EllipsoidCap):
-    """Lambdified f, g and their gradients and Hessians in ``(T1, T2, N, kappa, beta)``."""
-    import sympy
-
-    from ..laws._derived import _matrix, _scalar, _vector
-    from ..laws.symbols import N, T1, T2
-
-    x = (T1, T2, N, *state_symbols())
-    f, g = cap.symbolic()
-
-    def lam(expr, shape):
-        fun = sympy.lambdify(x, expr, modules="numpy")
-
-        def call(*args):
-            args = np.broadcast_arrays(*args)
-            out = fun(*args)
-            return shape(out, args[0].shape)
-        return call
-
-    def grad(e):
-        return [sympy.diff(e, s) for s in x]
-
-    def hess(e):
-        return [[sympy.diff(e, s, t) for t in x] for s in x]
-
-    return _CapFunctions(lam(f, _scalar), lam(g, _scalar), lam(grad(f), _vector),
-                         lam(grad(g), _vector), lam(hess(f), _matrix), lam(hess(g), _matrix))
-
-
-@dataclass(frozen=True)
-class _CapFunctions:
-    f: object
-    g: object
-    grad_f: object
-    grad_g: object
-    hess_f: object
-    hess_g: object
+    return sympy.Symbol("kappa", nonnegative=True), sympy.Symbol("beta", positive=True)
