@@ -5,6 +5,7 @@ the data of an Axes (lines, collections, arrows) is turned into points at most o
 and a legend, a label or a polar tick label must not contain any of them.
 """
 
+import os
 import sys
 
 import matplotlib.pyplot as plt
@@ -178,6 +179,10 @@ def test_paper_and_extra_folders_and_index(tmp_path):
         assert f"`{f.stem}`" in index and f.caption in index
     assert "fig5_two_flank" not in index                 # only what the folder holds
     assert not list(tmp_path.rglob(".*"))                 # no temporary files left behind
+    mask = os.umask(0)
+    os.umask(mask)
+    for path in [*written, tmp_path / "index.md"]:         # readable as the umask allows
+        assert path.stat().st_mode & 0o777 == 0o666 & ~mask
 
 
 def test_paper_only_computes_no_key_numbers(tmp_path, monkeypatch, capsys):

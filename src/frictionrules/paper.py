@@ -15,6 +15,7 @@ the paper to ``extra/``; ``index.md`` lists every figure written with its captio
 from __future__ import annotations
 
 import importlib
+import os
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -160,7 +161,16 @@ def save_figure(fig, path, fmt: str) -> Path:
     import matplotlib
     with matplotlib.rc_context({"svg.hashsalt": "frictionrules"}), atomic_path(path) as tmp:
         fig.savefig(tmp, format=fmt, dpi=150, bbox_inches="tight", metadata=_METADATA[fmt])
-    return Path(path)
+    return _shareable(Path(path))
+
+
+def _shareable(path: Path) -> Path:
+    """Give ``path`` the permissions the umask gives a new file (the atomic writer's temporary
+    file is private, 0600)."""
+    mask = os.umask(0)
+    os.umask(mask)
+    os.chmod(path, 0o666 & ~mask)
+    return path
 
 
 def make_figures(out_dir, formats=("png", "svg"), names=None, progress=None) -> list[Path]:
@@ -207,7 +217,7 @@ def write_index(out_dir) -> Path:
                 rows.append(f"| `{f.stem}` ({links}) | {f.caption} |")
         if rows:
             lines += [f"## {heading} (`{folder}/`)", "", "| figure | caption |", "|---|---|", *rows, ""]
-    return write_text(out_dir / "index.md", "\n".join(lines))
+    return _shareable(write_text(out_dir / "index.md", "\n".join(lines) + "\n"))
 
 
 def key_numbers() -> list[tuple[str, str, str]]:
