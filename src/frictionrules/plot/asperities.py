@@ -163,7 +163,7 @@ def fig6a_limit_surface(ax=None, q_max: float = 1.0, box: float = 4.0):
 
     ax = _axes(ax, "3d", size=(7.5, 6.0))
     law = TwoFlankAsperity(**FIG5)
-    curve = law.limit_curve(1.0, n=720)
+    curve = law.limit_curve(1.0, n=360)
     T, labels = _section(curve, box / q_max)
     T = q_max * T
     color = {"0": _COLORS[0], "0+1": _COLORS[1], "1": _COLORS[2]}   # as in Fig. 5
