@@ -68,9 +68,18 @@ def test_registered_in_paper(tmp_path):
     names = {f.name for f in FIGURES}
     assert set(NAMES) <= names
     assert "frictionrules.configuration.summary:key_numbers" in KEY_NUMBERS
-    written = make_figures(tmp_path, formats=("png",), names={"pocket_breakout_force_polar"})
-    assert written == [tmp_path / "extra" / "pocket_breakout_force_polar.png"]
+    written = make_figures(tmp_path, formats=("png",), names={"extra/softening_exact_vs_incremental"})
+    assert written == [tmp_path / "extra" / "softening_exact_vs_incremental.png"]
     assert written[0].stat().st_size > 10_000
+
+
+def test_pocket_polar_is_readable():
+    """The polar plot of the pocket break-out force: legend under it, radius labels off the
+    curves (the layout checks of tests/test_figures.py)."""
+    from _figure_checks import assert_readable
+    ax = plot.pocket_peak_force(n=121)
+    assert_readable(ax)
+    plt.close(ax.figure)
 
 
 def test_key_numbers():

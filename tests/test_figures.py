@@ -1,9 +1,5 @@
-"""Every figure is readable and shows what its caption says.
-
-Layout checks work in display coordinates, written here independently of the plotting helpers:
-the data of an Axes (lines, collections, arrows) is turned into points at most one pixel apart,
-and a legend, a label or a polar tick label must not contain any of them.
-"""
+"""Every figure is readable and shows what its caption says (layout checks in
+``tests/_figure_checks.py``)."""
 
 import os
 import sys
@@ -12,66 +8,11 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 
+from _figure_checks import assert_readable
+
 from frictionrules import plot
 from frictionrules.cli import main
 from frictionrules.paper import EXTRA, FIGURES, PAPER, make_figures, select
-
-
-def _polyline(disp):
-    """Points of a display-space polyline, at most 1 px apart."""
-    disp = disp[np.all(np.isfinite(disp), axis=1)]
-    out = [disp[:1]]
-    for a, b in zip(disp[:-1], disp[1:]):
-        k = max(1, int(np.ceil(np.hypot(*(b - a)))))
-        out.append(a + np.linspace(0, 1, k + 1)[1:, None] * (b - a))
-    return np.concatenate(out) if len(disp) else np.zeros((0, 2))
-
-
-def data_points(ax):
-    """Display points of everything drawn as data, within the axes (the artists are clipped)."""
-    ax.figure.canvas.draw()
-    pts = [np.zeros((0, 2))]
-    for line in ax.lines:
-        xy = np.asarray(line.get_xydata(), dtype=float)
-        if line.get_visible() and len(xy):
-            if ax.name == "polar":   # an arc between two samples: interpolate in (theta, r)
-                xy = np.concatenate([a + np.linspace(0, 1, 8, endpoint=False)[:, None] * (b - a)
-                                     for a, b in zip(xy[:-1], xy[1:])] + [xy[-1:]])
-            pts.append(_polyline(line.get_transform().transform(xy)))
-    for artist in list(ax.collections) + list(ax.patches):
-        paths = artist.get_paths() if hasattr(artist, "get_paths") else [artist.get_path()]
-        for path in paths:
-            for poly in path.to_polygons(closed_only=False):
-                pts.append(_polyline(artist.get_transform().transform(poly)))
-    pts = np.concatenate(pts)
-    box = ax.bbox
-    return pts[(pts[:, 0] >= box.x0) & (pts[:, 0] <= box.x1) & (pts[:, 1] >= box.y0) & (pts[:, 1] <= box.y1)]
-
-
-def inside(bbox, pts, margin=1.0):
-    return np.flatnonzero((pts[:, 0] > bbox.x0 + margin) & (pts[:, 0] < bbox.x1 - margin)
-                          & (pts[:, 1] > bbox.y0 + margin) & (pts[:, 1] < bbox.y1 - margin))
-
-
-def assert_readable(ax):
-    """No legend over data, no label (ax.texts) struck by a curve, no polar tick label on a curve."""
-    renderer = ax.figure.canvas.get_renderer()
-    pts = data_points(ax)
-    legend = ax.get_legend()
-    if legend is not None:
-        hit = inside(legend.get_window_extent(renderer), pts)
-        assert not len(hit), f"legend covers data at {pts[hit[0]]}"
-    inline = {id(t) for c in ax.collections for t in getattr(c, "labelTexts", ())}
-    for text in ax.texts:
-        if id(text) in inline:      # contour labels sit in a gap cut into their own line
-            continue
-        hit = inside(text.get_window_extent(renderer), pts)
-        assert not len(hit), f"label {text.get_text()!r} is crossed by data"
-    if ax.name == "polar":
-        for text in ax.yaxis.get_ticklabels():
-            if text.get_visible() and text.get_text():
-                hit = inside(text.get_window_extent(renderer), pts)
-                assert not len(hit), f"polar tick label {text.get_text()!r} sits on a curve"
 
 
 @pytest.mark.parametrize("name", ["orthotropic_ellipse", "wedge_elliptic", "wedge_parabolic",
@@ -96,35 +37,11 @@ def test_fig7_labels_exist_and_are_clear():
     plt.close(ax.figure)
 
 
-def test_fig10a_is_the_surface_in_t1_t2_n_with_its_points_and_lines():
-    """Fig. 10a: 3-D, labels A', B', A_c, B_c; one line through the peaks, one through the
-    asymptotic points (the critical-state line T1 = m N through the origin)."""
-    from frictionrules.contact.summary import FIG10, fig10c_results
-    ax = plot.cap_surface()
-    assert ax.name == "3d" and ax.collections                      # the shaded surface
-    labels = {t.get_text() for t in ax.texts}
-    assert {"A′", "B′", "A$_c$", "B$_c$", "A", "B"} <= labels
-    tests = fig10c_results()
-    lines = [ln for ln in ax.lines if ln.get_label().startswith("through")]
-    assert len(lines) == 2
-
-    def passes(line, points):
-        N, _, T1 = (np.asarray(c) for c in line.get_data_3d())
-        return all(abs(np.interp(n, N, T1) - t) < 1e-9 for n, t in points)
-
-    peaks = [(t.N, t.T[t.peak]) for t in tests]
-    ends = [(t.N, t.T[-1]) for t in tests]
-    assert any(passes(ln, peaks) for ln in lines)
-    crit = [ln for ln in lines if "critical" in ln.get_label()][0]
-    N, _, T1 = crit.get_data_3d()
-    np.testing.assert_allclose(np.asarray(T1), FIG10.m * np.asarray(N))
-    for n, t in ends:                                 # A_c, B_c on the critical-state line
-        assert t == pytest.approx(FIG10.m * n, rel=2e-3)
-    plt.close(ax.figure)
-
-
-def test_fig10c_peak_b_is_an_interior_maximum_and_the_elastic_branch_is_readable():
-    """Fig. 10c: test B rises to B' and slowly diminishes to B_c; A' is off the axis."""
+def test_fig10a_and_10c_show_the_paper_s_points_and_lines():
+    """Fig. 10c: test A peaks at A' and softens to A_c; test B rises monotonically to an interior
+    peak B' and slowly diminishes to B_c; both end on T = m N; A' and the elastic branch are off
+    the axis. Fig. 10a: 3-D in (T1, T2, N) with the labels A, B, A', B', A_c, B_c, one line
+    through the peaks and one through the asymptotic points (the critical-state line T1 = m N)."""
     from frictionrules.contact.summary import FIG10, fig10c_results
     a, b = fig10c_results()
     assert a.N < FIG10.A0 < b.N
@@ -135,14 +52,31 @@ def test_fig10c_peak_b_is_an_interior_maximum_and_the_elastic_branch_is_readable
         assert np.all(np.diff(t.T[k:]) <= 1e-9)               # diminishing after the peak
         assert t.T[-1] == pytest.approx(FIG10.m * t.N, rel=2e-3)
     assert np.all(np.diff(b.T[:b.peak + 1]) >= -1e-9)         # B rises monotonically to B'
+
     ax = plot.cap_shear_curves()
     width = np.diff(ax.get_xlim())[0]
     assert a.slip[a.peak] / width > 0.05                      # A' not against the axis
     elastic = a.slip[np.argmax(a.result.status == 1)]         # end of the elastic branch
     assert elastic / width > 0.03
-    labels = {t.get_text() for t in ax.texts}
-    assert labels == {"A′", "B′", "A$_c$", "B$_c$"}
+    assert {t.get_text() for t in ax.texts} == {"A′", "B′", "A$_c$", "B$_c$"}
     assert_readable(ax)
+    plt.close(ax.figure)
+
+    ax = plot.cap_surface()
+    assert ax.name == "3d" and ax.collections                      # the shaded surface
+    assert {"A′", "B′", "A$_c$", "B$_c$", "A", "B"} <= {t.get_text() for t in ax.texts}
+    lines = [ln for ln in ax.lines if ln.get_label().startswith("through")]
+    assert len(lines) == 2
+
+    def passes(line, points):
+        N, _, T1 = (np.asarray(c) for c in line.get_data_3d())
+        return all(abs(np.interp(n, N, T1) - t) < 1e-9 for n, t in points)
+
+    crit = [ln for ln in lines if "critical" in ln.get_label()]
+    peak = [ln for ln in lines if "peaks" in ln.get_label()]
+    assert passes(peak[0], [(t.N, t.T[t.peak]) for t in (a, b)])
+    N, _, T1 = crit[0].get_data_3d()
+    np.testing.assert_allclose(np.asarray(T1), FIG10.m * np.asarray(N))
     plt.close(ax.figure)
 
 

@@ -88,9 +88,14 @@ def data_points(ax, spacing: float = 1.0) -> np.ndarray:
 
 def _dense(xy, transform, spacing):
     """Points of the polyline ``xy`` (in the coordinates of ``transform``) in display
-    coordinates, subdivided so that consecutive points are at most ``spacing`` pixels apart."""
+    coordinates, subdivided so that consecutive points are at most ``spacing`` pixels apart;
+    a non-finite point is a gap in the line."""
     xy = np.asarray(xy, dtype=float)
-    xy = xy[np.all(np.isfinite(xy), axis=1)]
+    bad = ~np.all(np.isfinite(xy), axis=1)
+    if bad.any():
+        pieces = np.split(xy, np.flatnonzero(bad))
+        return np.concatenate([np.zeros((0, 2))] + [_dense(p[np.all(np.isfinite(p), axis=1)],
+                                                           transform, spacing) for p in pieces])
     if len(xy) < 2:
         return transform.transform(xy) if len(xy) else np.zeros((0, 2))
     disp = transform.transform(xy)
