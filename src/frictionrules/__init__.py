@@ -25,14 +25,14 @@ from .laws import (
     WedgeAsperity,
     compare_rules,
 )
-# asperity mechanisms, real surfaces and calibration (issue 3)
+# asperity mechanisms, real surfaces and calibration (§2)
 from .asperities import FacetSet, TwoFlankAsperity, fit, from_heightmap, from_profile
-# multi-contact problems and FCLIB files (issue 6); frictionrules.io is the FCLIB module
+# multi-contact problems and FCLIB files; frictionrules.io is the FCLIB module
 from .io import read_fclib, write_fclib
 from .multicontact import FrictionContactProblem, Solution, solve
-# elastic-plastic contact with hardening and softening (issue 4)
+# elastic-plastic contact with hardening and softening (§4)
 from .contact import ContactModel, ContactState, DriveResult, UpdateResult, drive
-# configuration softening: grains sliding over layers (issue 5)
+# configuration softening: grains sliding over layers (§3)
 from .configuration import (
     CylinderOnLayer,
     ForceControlResult,
@@ -47,13 +47,13 @@ __version__ = "0.1.0"
 
 __all__ = [
     "FrictionRulesError",
-    # asperity mechanisms (issue 3)
+    # asperity mechanisms (§2)
     "FacetSet",
     "TwoFlankAsperity",
     "from_profile",
     "from_heightmap",
     "fit",
-    # laws (issue: core)
+    # laws (§1, §2 wedge)
     "FrictionLaw",
     "Coulomb",
     "EllipticOrthotropic",
@@ -72,20 +72,20 @@ __all__ = [
     "T1",
     "T2",
     "N",
-    # multi-contact (issue 6)
+    # multi-contact problems
     "FrictionContactProblem",
     "solve",
     "Solution",
     "read_fclib",
     "write_fclib",
-    # elastic-plastic contact (issue 4)
+    # elastic-plastic contact (§4)
     "ContactModel",
     "EllipsoidCap",
     "drive",
     "ContactState",
     "UpdateResult",
     "DriveResult",
-    # configuration softening (issue 5)
+    # configuration softening (§3)
     "CylinderOnLayer",
     "SphereOnLayer",
     "GrainState",

@@ -27,6 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ._optional import require
 from .errors import FrictionRulesError
 
 __all__ = ["GlobalProblem", "read_fclib", "read_fclib_global", "write_fclib", "write_fclib_global"]
@@ -64,7 +65,7 @@ class GlobalProblem:
         -------
         FrictionContactProblem
         """
-        import scipy.sparse as sp
+        sp = require("scipy.sparse", extra="solvers")
         import scipy.sparse.linalg as spla
 
         from .multicontact.problem import FrictionContactProblem
@@ -116,7 +117,7 @@ def _text(h5, path: str) -> str:
 
 
 def _read_sparse(h5, group: str):
-    import scipy.sparse as sp
+    sp = require("scipy.sparse", extra="solvers")
     m, n, nz = _int(h5, f"{group}/m"), _int(h5, f"{group}/n"), _int(h5, f"{group}/nz")
     if m < 0 or n < 0:
         raise FrictionRulesError(f"dataset {group}/m, n = {m}, {n}; constraint: >= 0")
@@ -147,7 +148,7 @@ def _read_sparse(h5, group: str):
 
 
 def _open(path):
-    import h5py
+    h5py = require("h5py", extra="hdf5")
     path = Path(path)
     if not path.is_file():
         raise FileNotFoundError(f"no such FCLIB file: {path}")
@@ -210,7 +211,7 @@ def read_fclib(path):
 
 # ---- writing ---------------------------------------------------------------------------------
 def _write_sparse(h5, group: str, A, fmt: str = "csr") -> None:
-    import scipy.sparse as sp
+    sp = require("scipy.sparse", extra="solvers")
     A = sp.csr_matrix(A) if fmt == "csr" else sp.csc_matrix(A)
     A.sort_indices()
     g = h5.create_group(group)
@@ -239,7 +240,7 @@ def write_fclib(path, problem, *, solution=None, title: str = "", description: s
     Only problems whose every contact is isotropic Coulomb can be written (FCLIB has no other
     law). ``solution`` (a :class:`~frictionrules.Solution`) goes to ``/solution/{r,u}``.
     """
-    import h5py
+    h5py = require("h5py", extra="hdf5")
 
     from ._atomic import atomic_path
     mu = problem.coulomb_mu()
@@ -256,7 +257,7 @@ def write_fclib(path, problem, *, solution=None, title: str = "", description: s
 
 def write_fclib_global(path, problem: GlobalProblem, *, solution=None) -> Path:
     """Write a :class:`GlobalProblem` (``/fclib_global``, M and H in CSC) atomically."""
-    import h5py
+    h5py = require("h5py", extra="hdf5")
 
     from ._atomic import atomic_path
     with atomic_path(path) as tmp, h5py.File(tmp, "w") as h5:

@@ -15,12 +15,22 @@ the paper to ``extra/``; ``index.md`` lists every figure written with its captio
 from __future__ import annotations
 
 import importlib
-import os
 from dataclasses import dataclass
 from pathlib import Path
 
-from ._atomic import atomic_path, write_text
+from ._optional import require
+from ._output import provenance, write_figure, write_text
 from .contact.summary import FIG10
+
+#: What the figures and key numbers import beyond NumPy: the packages of the ``paper`` extra.
+REQUIRES: tuple[str, ...] = ("matplotlib", "numba", "scipy", "sympy")
+
+
+def check_requirements() -> None:
+    """Raise one :class:`~frictionrules.FrictionRulesError` line naming the ``paper`` extra
+    if any package of :data:`REQUIRES` is missing, before any work starts."""
+    for name in REQUIRES:
+        require(name, extra="paper", purpose="frictionrules paper")
 
 #: Folder of the paper's figures and of the figures beyond the paper, under the output folder.
 PAPER, EXTRA = "paper", "extra"
@@ -128,11 +138,6 @@ KEY_NUMBERS: tuple[str, ...] = (
     "frictionrules.contact.summary:key_numbers",
 )
 
-#: Metadata that would change from run to run, cleared so that a figure's bytes depend only on
-#: what it shows.
-_METADATA = {"svg": {"Date": None}, "pdf": {"CreationDate": None, "ModDate": None}, "png": {}}
-
-
 def _resolve(target: str):
     module, _, name = target.partition(":")
     return getattr(importlib.import_module(module), name)
@@ -155,22 +160,12 @@ def select(names=None, argument: str = "names") -> tuple[Figure, ...]:
     return tuple(f for f in FIGURES if f in wanted)
 
 
-def save_figure(fig, path, fmt: str) -> Path:
-    """Save ``fig`` to ``path`` atomically, with the same bytes on every run (fixed SVG ids,
-    no dates in the metadata)."""
-    import matplotlib
-    with matplotlib.rc_context({"svg.hashsalt": "frictionrules"}), atomic_path(path) as tmp:
-        fig.savefig(tmp, format=fmt, dpi=150, bbox_inches="tight", metadata=_METADATA[fmt])
-    return _shareable(Path(path))
-
-
-def _shareable(path: Path) -> Path:
-    """Give ``path`` the permissions the umask gives a new file (the atomic writer's temporary
-    file is private, 0600)."""
-    mask = os.umask(0)
-    os.umask(mask)
-    os.chmod(path, 0o666 & ~mask)
-    return path
+def save_figure(fig, path, figure: Figure | None = None) -> Path:
+    """Save ``fig`` to ``path`` (PNG, SVG or PDF by the suffix) atomically, with the umask's
+    permissions and the same bytes on every run (fixed SVG ids, no dates); the metadata name
+    the package version and, when given, the registered ``figure`` and its caption."""
+    meta = provenance(figure=figure.name, caption=figure.caption) if figure else provenance()
+    return write_figure(fig, path, metadata=meta, bbox_inches="tight")
 
 
 def make_figures(out_dir, formats=("png", "svg"), names=None, progress=None) -> list[Path]:
@@ -180,6 +175,7 @@ def make_figures(out_dir, formats=("png", "svg"), names=None, progress=None) -> 
 
     ``progress``, if given, is called as ``progress(done, total)`` after each figure.
     """
+    check_requirements()
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -190,7 +186,7 @@ def make_figures(out_dir, formats=("png", "svg"), names=None, progress=None) -> 
     for k, figure in enumerate(chosen, start=1):
         ax = _resolve(figure.target)()
         for fmt in formats:
-            written.append(save_figure(ax.figure, out_dir / f"{figure.name}.{fmt}", fmt))
+            written.append(save_figure(ax.figure, out_dir / f"{figure.name}.{fmt}", figure))
         plt.close(ax.figure)
         if progress is not None:
             progress(k, len(chosen))
@@ -217,11 +213,12 @@ def write_index(out_dir) -> Path:
                 rows.append(f"| `{f.stem}` ({links}) | {f.caption} |")
         if rows:
             lines += [f"## {heading} (`{folder}/`)", "", "| figure | caption |", "|---|---|", *rows, ""]
-    return _shareable(write_text(out_dir / "index.md", "\n".join(lines) + "\n"))
+    return write_text(out_dir / "index.md", "\n".join(lines) + "\n")
 
 
 def key_numbers() -> list[tuple[str, str, str]]:
     """Rows ``(quantity, value, reference)`` from every registered table."""
+    check_requirements()
     rows = []
     for target in KEY_NUMBERS:
         rows.extend(_resolve(target)())

@@ -19,6 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._optional import require
 from ..errors import FrictionRulesError, check_finite, check_scalar
 
 __all__ = ["fit", "FitResult", "compare_fits", "format_fits"]
@@ -99,7 +100,7 @@ def fit(law, theta, mu_measured, *, params=None, angle=None, angle_weight: float
     -------
     FitResult
     """
-    from scipy.optimize import least_squares
+    least_squares = require("scipy.optimize", extra="solvers").least_squares
 
     if not dataclasses.is_dataclass(law):
         raise FrictionRulesError(f"law = {law!r} violates: must be a dataclass law")

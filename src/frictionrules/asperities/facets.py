@@ -51,6 +51,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._optional import require
 from ..errors import FrictionRulesError, check_finite, check_scalar
 from ..laws import FrictionLaw, InverseRelation
 
@@ -595,6 +596,7 @@ def _boundary_facets(n: np.ndarray) -> np.ndarray:
     ev = np.linalg.eigvalsh(np.cov(p.T))
     if ev[0] <= 1e-12 * max(ev[1], 0.0) + 1e-30:
         return np.arange(K)
+    require("scipy", extra="solvers")
     from scipy.spatial import ConvexHull, QhullError
     try:
         hull = ConvexHull(p, qhull_options="Qc")

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._optional import require
 from ..errors import FrictionRulesError, check_finite, check_scalar
 from .facets import FacetSet
 
@@ -80,6 +81,7 @@ def group_gradients(p, bins: int = 64) -> np.ndarray:
     e.g. from ridges) are binned into at most ``bins`` groups per edge. When all gradients are
     collinear (parallel ridges) both ends are kept and the inside is binned, as for a profile.
     """
+    require("scipy", extra="solvers")
     from scipy.spatial import ConvexHull, QhullError
 
     p = np.asarray(p, dtype=float).reshape(-1, 2)
@@ -204,7 +206,7 @@ def machined_surface(n: int = 512, dx: float = 1.0, period: float = 32.0, rise: 
     noise smoothed by a Gaussian of ``correlation`` grid steps and scaled to the standard
     deviation ``roughness`` (same length unit as ``dx``), reproducible through ``seed``.
     """
-    from scipy.ndimage import gaussian_filter
+    gaussian_filter = require("scipy.ndimage", extra="solvers").gaussian_filter
 
     y, x = np.mgrid[0:n, 0:n] * dx
     across = x * np.cos(lay) + y * np.sin(lay)

@@ -41,13 +41,19 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv=None) -> int:
     """Entry point of the ``frictionrules`` console script; returns the exit code.
 
-    Bad input (a :class:`FrictionRulesError`, a missing or unreadable file) exits with code 2
-    and a one-line message on stderr.
+    Bad input (a :class:`FrictionRulesError`, a missing or unreadable file) and a missing
+    optional package exit with code 2 and a one-line message on stderr.
     """
     parser = build_parser()
     args = parser.parse_args(argv)
     try:
         return int(args.run(args) or 0)
+    except ModuleNotFoundError as exc:  # an optional package: name the extra that installs it
+        from .._optional import missing_module_message
+        if (msg := missing_module_message(exc)) is None:
+            raise
+        print(f"frictionrules {args.command}: error: {msg}", file=sys.stderr)
+        return 2
     except (FrictionRulesError, OSError) as exc:
         msg = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
         print(f"frictionrules {args.command}: error: {msg}", file=sys.stderr)

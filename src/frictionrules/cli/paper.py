@@ -2,10 +2,6 @@
 
 from __future__ import annotations
 
-import contextlib
-import sys
-import time
-
 _DESCRIPTION = """\
 Reproduce the paper. Writes every figure (PNG and SVG by default) under DIR: the paper's
 figures in DIR/paper/ (fig1a_coulomb_cone, ... fig10c_cap_shear_curves), the figures beyond
@@ -36,20 +32,26 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from ..paper import format_table, key_numbers, make_figures, select
+    from .._progress import Progress
+    from ..paper import check_requirements, format_table, key_numbers, make_figures, select
 
     chosen = select(args.only, argument="--only")
     if args.list:
         for f in chosen:
             print(f"{f.name}\n    {f.caption}")
         return 0
+    check_requirements()
     numbers = args.numbers or not args.only
-    with _progress(len(chosen) + numbers, "paper") as step:
+    total = len(chosen) + numbers
+    with Progress("paper", total=total, unit="steps") as step:
         written = make_figures(args.out, formats=tuple(args.formats or ("png", "svg")),
-                               names=args.only, progress=step)
-        table = format_table(key_numbers()) if numbers else None
+                               names=args.only, progress=lambda done, _: step(done, total))
         if numbers:
-            step(len(chosen) + 1, len(chosen) + 1)
+            step.phase("key numbers")
+            table = format_table(key_numbers())
+            step(total, total)
+        else:
+            table = None
     print(f"wrote {len(written)} files to {args.out}/ (captions in {args.out}/index.md)")
     for path in written:
         print(f"  {path}")
@@ -57,22 +59,3 @@ def run(args) -> int:
         print()
         print(table)
     return 0
-
-
-@contextlib.contextmanager
-def _progress(total: int, what: str):
-    """Report progress on stderr: a counter redrawn in place when stderr is a terminal, and one
-    summary line at the end in every case. Yields ``step(done, total)``."""
-    start = time.perf_counter()
-    tty = sys.stderr.isatty()
-    done = [0]
-
-    def step(k, n):
-        done[0] = k
-        if tty:
-            print(f"\r{what}: {k}/{n}", end="", file=sys.stderr, flush=True)
-
-    yield step
-    if tty:
-        print("\r", end="", file=sys.stderr)
-    print(f"{what}: {done[0]} of {total} steps in {time.perf_counter() - start:.1f} s", file=sys.stderr)

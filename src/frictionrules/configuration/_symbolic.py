@@ -21,6 +21,8 @@ import functools
 
 import numpy as np
 
+from .._optional import require
+
 #: Names of the compiled quantities, in the order :func:`contact_functions` returns them.
 NAMES = ("f", "f_Tx", "f_Ty", "f_alpha", "f_psi", "g_Tx", "g_Ty",
          "g_TxTx", "g_TxTy", "g_TyTy", "g_Txalpha", "g_Tyalpha", "g_Txpsi", "g_Typsi", "g_Q", "N")
@@ -28,7 +30,7 @@ NAMES = ("f", "f_Tx", "f_Ty", "f_alpha", "f_psi", "g_Tx", "g_Ty",
 
 def expressions():
     """``(symbols, f, g, N)``: the SymPy expressions above; symbols ``(Tx, Ty, alpha, psi, Q, mu)``."""
-    import sympy as sp
+    sp = require("sympy", extra="symbolic")
 
     Tx, Ty, a, p = sp.symbols("T_x T_y alpha psi", real=True)
     Q, mu = sp.symbols("Q mu", positive=True)
@@ -43,7 +45,7 @@ def expressions():
 @functools.lru_cache(maxsize=None)
 def contact_functions():
     """Compiled ``F(Tx, Ty, alpha, psi, Q, mu) -> dict`` of the quantities in :data:`NAMES`."""
-    import sympy as sp
+    sp = require("sympy", extra="symbolic")
 
     syms, f, g, n = expressions()
     Tx, Ty, a, p = syms[:4]

@@ -33,6 +33,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._optional import require
 from ..errors import FrictionRulesError, check_vectors
 from ._symbolic import contact_functions
 from .geometry import active_contacts, angles
@@ -293,7 +294,7 @@ def force_path(model, forces, state: GrainState) -> ForceControlResult:
                 if sliding[-1] and limit is None:
                     limit = LimitPoint(i, 1.0, T[i + 1].copy(), snapshot())
                 continue
-            from scipy.optimize import brentq
+            brentq = require("scipy.optimize", extra="solvers").brentq
             s = brentq(lambda s: climbing_limit(T[i] + s * dT, alpha, psi, mu, Q), 0.0, 1.0,
                        xtol=1e-14)
             Ts = T[i] + s * dT

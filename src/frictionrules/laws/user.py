@@ -221,6 +221,44 @@ class UserLaw(FrictionLaw):
         require(self, "cone", "UserLaw.cone()")
         return cone_of(self)
 
+    # ---- as data (TOML files, the CLI) ------------------------------------------------------
+    _KEYS = ("limit", "potential", "params", "state", "rates")
+
+    @classmethod
+    def from_mapping(cls, table, *, name: str = "law") -> "UserLaw":
+        """A user law from a mapping (e.g. a TOML table): ``limit`` (required), ``potential``,
+        ``params``, ``state`` and ``rates`` (tables), as the constructor takes them::
+
+            [law]
+            limit = "sqrt(T1**2 + T2**2) - mu*N"
+            potential = "sqrt(T1**2 + T2**2) - psi*N"
+            params = { mu = 0.5, psi = 0.1 }
+        """
+        if not hasattr(table, "keys"):
+            raise FrictionRulesError(f"{name} = {table!r} violates: a table with the keys "
+                                     f"{', '.join(cls._KEYS)}")
+        unknown = sorted(set(table) - set(cls._KEYS))
+        if unknown:
+            raise FrictionRulesError(f"{name} has the unknown keys {unknown}; constraint: keys in "
+                                     f"{list(cls._KEYS)}")
+        if "limit" not in table:
+            raise FrictionRulesError(f"{name} has no 'limit'; constraint: the limit condition f "
+                                     "is required")
+        return cls(table["limit"], table.get("potential"), table.get("params"), table.get("state"),
+                   table.get("rates"))
+
+    def to_mapping(self) -> dict:
+        """The inverse of :meth:`from_mapping` (expressions as strings)."""
+        out = {"limit": str(self.limit_expr)}
+        if self.potential_expr is not None:
+            out["potential"] = str(self.potential_expr)
+        if self.params:
+            out["params"] = dict(self.params)
+        if self.state:
+            out["state"] = dict(self.state)
+            out["rates"] = {k: str(r) for k, r in zip(self.state_names, self._rate_inputs())}
+        return out
+
     def __repr__(self) -> str:
         parts = [f"limit={str(self.limit_expr)!r}"]
         if self.potential_expr is not None:

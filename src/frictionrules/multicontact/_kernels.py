@@ -8,7 +8,9 @@ All kernels work in the circular frame of :mod:`.problem`: per contact an isotro
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from .._optional import require
+
+njit = require("numba", extra="kernels").njit
 
 _EPS = np.finfo(float).eps
 

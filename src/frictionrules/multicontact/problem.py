@@ -29,11 +29,12 @@ with :math:`d_a = -g_{,N}/(\bar\mu_a |A_a^T \nabla_T g|)` (constant on a cone).
 ``d = 0`` is Coulomb without normal slip (De Saxcé's original modified velocity, FCLIB),
 ``d = 1`` the associated (dilatant) rule g = f, ``d = tan(psi)/mu`` a dilatancy angle psi.
 
-Accepted laws: a number (Coulomb ``mu``), :class:`~frictionrules.Coulomb` (``dilatant``
-gives ``d = 1``), :class:`~frictionrules.EllipticOrthotropic` (``A = R(angle)
-diag(mu_x, mu_y)/sqrt(mu_x mu_y)``, ``d = 0``), and any other law whose limit surface is a
-cone with an elliptic section and whose potential is associated in the sliding plane with a
-constant dilatancy ratio (checked numerically on 24 points of the limit curve).
+Accepted laws: a number (Coulomb ``mu``) and every law that declares the capability
+``"cone"`` (:meth:`~frictionrules.FrictionLaw.cone` gives ``mu_x, mu_y, angle`` and ``d``;
+``A = R(angle) diag(mu_x, mu_y)/sqrt(mu_x mu_y)``): :class:`~frictionrules.Coulomb`
+(``dilatant`` gives ``d = 1``), :class:`~frictionrules.EllipticOrthotropic` (``d = 0``), a
+law with slip hardening of these (at each contact's state κ) and a user law whose symbolic
+form is such a cone. Any other law is refused with an error naming the missing capability.
 """
 
 from __future__ import annotations
@@ -42,13 +43,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .._optional import require
 from ..errors import FrictionRulesError, check_finite
 
 __all__ = ["FrictionContactProblem", "Solution"]
 
 
 def _coerce_matrix(W):
-    import scipy.sparse as sp
+    sp = require("scipy.sparse", extra="solvers")
     if sp.issparse(W):
         W = sp.csr_matrix(W, dtype=float)
     else:
@@ -72,77 +74,42 @@ def _ellipse_frame(mu_x: float, mu_y: float, angle: float):
     return mbar, A
 
 
-def _probe_law(law, index: int):
-    """(mu_bar, d, A) of a generic law: elliptic cone, tangential normality, constant d."""
-    th = np.linspace(0.0, 2 * np.pi, 24, endpoint=False)
-    e = np.stack((np.cos(th), np.sin(th)), axis=-1)
-    what = f"mu[{index}] = {law!r}"
-    lo, hi = np.zeros(th.size), np.ones(th.size)
-    N1 = np.ones(th.size)
-    try:
-        for _ in range(60):  # bracket the limit curve along rays (star-shaped about 0)
-            out = law.limit(hi[:, None] * e, N1) < 0
-            if not out.any():
-                break
-            hi = np.where(out, 2 * hi, hi)
-        if np.any(law.limit(hi[:, None] * e, N1) < 0) or np.any(law.limit(0 * e, N1) >= 0):
-            raise FrictionRulesError(f"{what}: the limit curve at N = 1 is not closed around T = 0")
-        for _ in range(60):
-            mid = 0.5 * (lo + hi)
-            inside = law.limit(mid[:, None] * e, N1) < 0
-            lo, hi = np.where(inside, mid, lo), np.where(inside, hi, mid)
-        T = 0.5 * (lo + hi)[:, None] * e
-        # fit T^T Q T = 1 (ellipse through 0's centre)
-        X = np.stack((T[:, 0] ** 2, 2 * T[:, 0] * T[:, 1], T[:, 1] ** 2), axis=-1)
-        a, b, c = np.linalg.lstsq(X, np.ones(th.size), rcond=None)[0]
-        Q = np.array([[a, b], [b, c]])
-        ok_fit = np.max(np.abs(X @ [a, b, c] - 1)) < 1e-6 and np.all(np.linalg.eigvalsh(Q) > 0)
-        ok_cone = np.max(np.abs(law.limit(2.5 * T, 2.5 * N1) / 2.5 - law.limit(T, N1))) < 1e-7
-        if not (ok_fit and ok_cone):
-            raise FrictionRulesError(
-                f"{what}: constraint: the limit surface must be a cone with an elliptic section "
-                "(Coulomb, EllipticOrthotropic or an equivalent law)")
-        lam, V = np.linalg.eigh(Q)
-        mu_x, mu_y = 1 / np.sqrt(lam)
-        angle = float(np.arctan2(V[1, 0], V[0, 0]))
-        mbar, A = _ellipse_frame(mu_x, mu_y, angle)
-        gf = law.limit_gradient(T, N1)
-        gg = law.potential_gradient(T, N1)
-        cross = gf[:, 0] * gg[:, 1] - gf[:, 1] * gg[:, 0]
-        dot = gf[:, 0] * gg[:, 0] + gf[:, 1] * gg[:, 1]
-        if np.max(np.abs(cross)) > 1e-7 * np.max(np.abs(dot)) or np.any(dot <= 0):
-            raise FrictionRulesError(
-                f"{what}: constraint: the potential must be associated in the sliding plane "
-                "(its tangential gradient normal to the limit curve)")
-        gt = gg[:, :2] @ A  # A^T grad_T g, row-wise
-        d = -gg[:, 2] / (mbar * np.hypot(gt[:, 0], gt[:, 1]))
-        if np.ptp(d) > 1e-7 * max(1.0, np.max(np.abs(d))):
-            raise FrictionRulesError(
-                f"{what}: constraint: the dilatancy ratio -g_N/(mu |grad_T g|) must be constant "
-                f"around the cone (found {d.min():.6g} .. {d.max():.6g})")
-    except FrictionRulesError:
-        raise
-    except (TypeError, AttributeError) as exc:
-        raise FrictionRulesError(f"{what} is not a friction law or a coefficient") from exc
-    return mbar, float(np.mean(d)), A
+def _law_params(law, index: int, q=None):
+    """``(mu_bar, d, A)`` of the law at contact ``index`` through its "cone" capability
+    (``A`` None for an isotropic cone)."""
+    from ..laws import FrictionLaw, require
+    if not isinstance(law, FrictionLaw):
+        try:
+            mu = float(law)
+        except (TypeError, ValueError):
+            raise FrictionRulesError(f"mu[{index}] = {law!r} is not a friction law or a "
+                                     "coefficient") from None
+        if not np.isfinite(mu) or mu < 0:
+            raise FrictionRulesError(f"mu[{index}] = {mu!r} violates mu >= 0 (finite)")
+        return mu, 0.0, None
+    require(law, "cone", f"FrictionContactProblem: the law of contact {index}")
+    cone = law.cone(q)
+    if cone.mu_x == cone.mu_y:
+        return cone.mu_x, cone.dilatancy, None
+    mbar, A = _ellipse_frame(cone.mu_x, cone.mu_y, cone.angle)
+    return mbar, cone.dilatancy, A
 
 
-def _law_params(law, index: int):
-    from ..laws import Coulomb, EllipticOrthotropic, FrictionLaw
-    if isinstance(law, Coulomb):
-        return law.mu, (1.0 if law.dilatant else 0.0), None
-    if isinstance(law, EllipticOrthotropic):
-        mbar, A = _ellipse_frame(law.mu_x, law.mu_y, law.angle)
-        return mbar, 0.0, A
-    if isinstance(law, FrictionLaw):
-        return _probe_law(law, index)
-    try:
-        mu = float(law)
-    except (TypeError, ValueError) as exc:
-        raise FrictionRulesError(f"mu[{index}] = {law!r} is not a friction law or a coefficient") from exc
-    if not np.isfinite(mu) or mu < 0:
-        raise FrictionRulesError(f"mu[{index}] = {mu!r} violates mu >= 0 (finite)")
-    return mu, 0.0, None
+def _contact_states(state, laws):
+    """Per-contact law states from ``state``: None, one LawState of shape ``(nc,)`` (all
+    contacts with the same variables) or a sequence of per-contact states."""
+    from ..laws import LawState
+    nc = len(laws)
+    if state is None:
+        return (None,) * nc
+    if isinstance(state, LawState):
+        if state.shape != (nc,):
+            raise FrictionRulesError(f"state has shape {state.shape}; constraint: (nc,) = ({nc},)")
+        return tuple(LawState(state.names, state.values[a]) for a in range(nc))
+    states = tuple(state)
+    if len(states) != nc:
+        raise FrictionRulesError(f"state has {len(states)} entries; constraint: nc = {nc}")
+    return states
 
 
 class FrictionContactProblem:
@@ -155,16 +122,22 @@ class FrictionContactProblem:
     q : (3 nc,) array
         Free velocity.
     mu : float, (nc,) array, FrictionLaw or sequence of laws/floats
-        Per-contact law: a number is isotropic Coulomb without normal slip (FCLIB); see the
-        module docstring for the laws accepted.
+        Per-contact law: a number is isotropic Coulomb without normal slip (FCLIB); a law
+        must declare the capability ``"cone"`` (see the module docstring).
     title : str
         A label (read from FCLIB ``info/title``).
+    state : LawState or sequence of LawState, optional
+        The internal variables of the contacts' laws (e.g. the accumulated slip κ of a law
+        with slip hardening), one state per contact or one of shape ``(nc,)``; the cone of
+        each contact is taken at its state. None: the laws' initial states.
 
     Attributes
     ----------
     W, q, nc, title
     laws : tuple
         The per-contact laws as given (floats for plain Coulomb).
+    states : tuple
+        The per-contact law states (None: initial).
     mu_bar : (nc,) array
         Isotropic coefficient of each contact in its circular frame.
     dilatancy : (nc,) array
@@ -173,7 +146,7 @@ class FrictionContactProblem:
         ``A_a`` with :math:`r_T = A_a\tilde r_T`; None when every contact is isotropic.
     """
 
-    def __init__(self, W, q, mu, *, title: str = ""):
+    def __init__(self, W, q, mu, *, title: str = "", state=None):
         self.W = _coerce_matrix(W)
         n = self.W.shape[0]
         self.nc = n // 3
@@ -186,16 +159,18 @@ class FrictionContactProblem:
             laws = tuple(np.asarray(mu, dtype=object).ravel()) if isinstance(mu, np.ndarray) else tuple(mu)
         if len(laws) != self.nc:
             raise FrictionRulesError(f"mu has {len(laws)} entries; constraint: nc = {self.nc}")
+        states = _contact_states(state, laws)
         cache = {}
         mbar, dil, frames = np.empty(self.nc), np.zeros(self.nc), np.empty((self.nc, 2, 2))
         frames[:] = np.eye(2)
         any_frame = False
-        for a, law in enumerate(laws):
-            key = id(law) if not isinstance(law, (int, float, np.floating, np.integer)) else None
+        for a, (law, qa) in enumerate(zip(laws, states)):
+            number = isinstance(law, (int, float, np.floating, np.integer))
+            key = None if number or qa is not None else id(law)
             if key is not None and key in cache:
                 m, d, A = cache[key]
             else:
-                m, d, A = _law_params(law, a)
+                m, d, A = _law_params(law, a, qa)
                 if key is not None:
                     cache[key] = (m, d, A)
             mbar[a], dil[a] = m, d
@@ -204,6 +179,7 @@ class FrictionContactProblem:
                 any_frame = True
         self.laws = tuple(float(x) if isinstance(x, (int, float, np.floating, np.integer)) else x
                           for x in laws)
+        self.states = states
         self.mu_bar = mbar
         self.dilatancy = dil
         self.frames = frames if any_frame else None

@@ -1,9 +1,14 @@
 """Figures: each function takes ``ax=None`` (a new figure is made when omitted) and returns the
-Axes it drew on. matplotlib is imported inside the functions, on first use.
+Axes it drew on. matplotlib is imported inside the functions, on first use; it comes with the
+``figures`` extra.
 
 ``frictionrules paper`` draws them all (:mod:`frictionrules.paper` lists them with their
 captions); the layout helpers keep legends beside the data and labels clear of the curves.
 """
+
+from .._optional import require
+
+require("matplotlib", extra="figures")
 
 from .laws import (
     coulomb_cone,
