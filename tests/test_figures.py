@@ -11,7 +11,7 @@ from _figure_checks import assert_readable
 
 from frictionrules import plot
 from frictionrules.cli import main
-from frictionrules.paper import EXTRA, FIGURES, PAPER, make_figures, select
+from frictionrules.paper import EXTRA, FIGURES, PAPER, make_figures, select, write_index
 
 
 @pytest.mark.parametrize("name", ["orthotropic_ellipse", "wedge_elliptic", "wedge_parabolic",
@@ -110,6 +110,10 @@ def test_paper_and_extra_folders_and_index(tmp_path):
     index = (tmp_path / "index.md").read_text()
     for f in select(["fig1b_orthotropic_ellipse", "orthotropic_friction_polar"]):
         assert f"`{f.stem}`" in index and f.caption in index
+    # a caption with |T| keeps its table cell: the pipes are escaped
+    (tmp_path / "extra" / "pocket_breakout_force_polar.svg").write_text("")
+    rows = [r for r in write_index(tmp_path).read_text().splitlines() if r.startswith("| `")]
+    assert len(rows) == 3 and all(r.replace("\\|", "").count("|") == 3 for r in rows)
     assert "fig5_two_flank" not in index                 # only what the folder holds
     assert not list(tmp_path.rglob(".*"))                 # no temporary files left behind
     mask = os.umask(0)

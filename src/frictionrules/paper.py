@@ -210,7 +210,8 @@ def write_index(out_dir) -> Path:
                            if p.suffix in (".png", ".svg", ".pdf"))
             if f.folder == folder and files:
                 links = ", ".join(f"[{p.rsplit('.', 1)[-1]}]({folder}/{p})" for p in files)
-                rows.append(f"| `{f.stem}` ({links}) | {f.caption} |")
+                caption = f.caption.replace("|", "\\|")          # a pipe would end the cell
+                rows.append(f"| `{f.stem}` ({links}) | {caption} |")
         if rows:
             lines += [f"## {heading} (`{folder}/`)", "", "| figure | caption |", "|---|---|", *rows, ""]
     return write_text(out_dir / "index.md", "\n".join(lines) + "\n")
