@@ -227,7 +227,9 @@ class UserLaw(FrictionLaw):
     @classmethod
     def from_mapping(cls, table, *, name: str = "law") -> "UserLaw":
         """A user law from a mapping (e.g. a TOML table): ``limit`` (required), ``potential``,
-        ``params``, ``state`` and ``rates`` (tables), as the constructor takes them::
+        ``params``, ``state`` and ``rates`` (tables), as the constructor takes them.
+
+        .. code-block:: toml
 
             [law]
             limit = "sqrt(T1**2 + T2**2) - mu*N"
