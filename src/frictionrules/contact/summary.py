@@ -38,7 +38,8 @@ class Fig10Setup:
 
     def model(self):
         """The :class:`ContactModel` with the cap (4.9) of these parameters."""
-        from . import AreaGrowth, AreaHardening, ContactModel, EllipsoidCap
+        from ..laws import AreaGrowth, AreaHardening, EllipsoidCap
+        from . import ContactModel
         cap = EllipsoidCap(self.m, A=AreaHardening(p=self.p, h=self.h, kappa_h=self.kappa_h),
                            B=AreaGrowth(b=self.b))
         return ContactModel(cap, kn=self.kn, kt=self.kt)
