@@ -34,9 +34,31 @@ def test_heightmap_polar_small():
 
 
 def test_registered_in_paper():
-    stems = {stem for stem, _ in FIGURES}
-    assert {"fig5_two_flank", "fig6a_limit_surface", "fig6b_potential_surface",
-            "fig7_associated", "heightmap_polar_mu"} <= stems
+    names = {f.name for f in FIGURES}
+    assert {"paper/fig5_two_flank", "paper/fig6a_limit_surface", "paper/fig6b_potential_surface",
+            "paper/fig7_associated", "extra/heightmap_friction_polar"} <= names
+
+
+def test_fig6a_shows_the_concavity():
+    """Fig. 6a: the section Q = 1 falls inside its convex hull near the concave corners of
+    Fig. 5 (shaded), and the generators through the four corners are drawn."""
+    import matplotlib.pyplot as plt
+    from scipy.spatial import ConvexHull
+
+    from frictionrules.plot.asperities import _pockets
+    ax = plots.fig6a_limit_surface()
+    edges = [ln for ln in ax.lines if len(ln.get_data_3d()[0]) == 2]
+    assert len(edges) == 4
+    law = TwoFlankAsperity(np.pi / 3, 5 * np.pi / 6, 1.0)
+    corners = [c.T for c in law.limit_curve(1.0, 720).concave_corners]
+    for (x, y, z), T in zip((ln.get_data_3d() for ln in edges), corners):
+        np.testing.assert_allclose([x[1], y[1], z[1]], [T[0], T[1], 1.0])
+    # a square with a notch: one pocket, the notch
+    square = np.array([[0, 0], [1, 0], [1, 1], [0.5, 0.6], [0, 1], [0, 0]], dtype=float)
+    pockets = _pockets(square)
+    assert len(pockets) == 1 and len(pockets[0]) == 3
+    assert ConvexHull(square).volume == pytest.approx(1.0)
+    plt.close(ax.figure)
 
 
 def test_limit_surface_is_a_cone():

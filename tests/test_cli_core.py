@@ -58,16 +58,16 @@ def test_console_script_help_everywhere():
 
 def test_paper_writes_figures_and_table(tmp_path, capsys):
     names = ["fig1b_orthotropic_ellipse", "fig3a_wedge_elliptic"]
-    argv = ["paper", "--out", str(tmp_path)]
+    argv = ["paper", "--out", str(tmp_path), "--numbers"]
     for name in names:
         argv += ["--only", name]
     assert main(argv) == 0
     out = capsys.readouterr().out
     for name in names:
         for ext in ("png", "svg"):
-            assert (tmp_path / f"{name}.{ext}").stat().st_size > 1000
+            assert (tmp_path / "paper" / f"{name}.{ext}").stat().st_size > 1000
     assert "tan(alpha+rho)" in out and "(1.15)" in out
-    assert not list(tmp_path.glob(".*"))  # no temporary files left behind
+    assert not list(tmp_path.rglob(".*"))  # no temporary files left behind
     rows = [r for r in out.splitlines() if "Tx/Q pushing up-slope" in r]
     assert float(rows[0].split()[-2]) == pytest.approx(np.tan(np.pi / 6 + np.arctan(0.5)), rel=1e-4)
 

@@ -25,6 +25,14 @@ def test_figures_draw_on_given_axes():
     plt.close(fig)
 
 
+def test_fig1b_arrows_are_in_the_legend():
+    from matplotlib.patches import FancyArrowPatch
+    ax = plot.orthotropic_ellipse()
+    arrows = [h for h in ax.get_legend().legend_handles if isinstance(h, FancyArrowPatch)]
+    assert len(arrows) == 2 and len([p for p in ax.patches if isinstance(p, FancyArrowPatch)]) == 10
+    plt.close(ax.figure)
+
+
 def test_directional_friction_plots_the_three_rules():
     ax = plot.directional_friction(mu_x=0.6, mu_y=0.3)
     radii = [line.get_ydata() for line in ax.lines[:3]]

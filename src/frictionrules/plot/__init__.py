@@ -1,6 +1,10 @@
 """Figures: each function takes ``ax=None`` (a new figure is made when omitted) and returns the
 Axes it drew on. matplotlib is imported inside the functions, on first use; it comes with the
-``figures`` extra."""
+``figures`` extra.
+
+``frictionrules paper`` draws them all (:mod:`frictionrules.paper` lists them with their
+captions); the layout helpers keep legends beside the data and labels clear of the curves.
+"""
 
 from .._optional import require
 
@@ -15,17 +19,7 @@ from .laws import (
     wedge_limit_curve,
     wedge_parabolic,
 )
-# configuration softening (§3)
-from .configuration import (
-    cylinder_limit_evolution,
-    limit_evolution,
-    pocket_peak_force,
-    softening_curve,
-    sphere_limit_evolution,
-)
-# elastic-plastic contact, Fig. 10 (§4)
-from .contact import cap_hardening, cap_shear_curves, cap_surface
-# asperity mechanisms, Figs. 5-7 (§2)
+# asperity mechanisms, Figs. 5-7
 from .asperities import (
     fig5_two_flank,
     fig6a_limit_surface,
@@ -34,16 +28,20 @@ from .asperities import (
     heightmap_polar,
     limit_curve,
 )
+# configuration softening, Figs. 8-9
+from .configuration import (
+    cylinder_limit_evolution,
+    limit_evolution,
+    path_force,
+    pocket_peak_force,
+    softening_curve,
+    sphere_limit_evolution,
+)
+# elastic-plastic contact, Fig. 10
+from .contact import cap_hardening, cap_shear_curves, cap_surface
 
 __all__ = [
-    # asperity mechanisms (§2)
-    "limit_curve",
-    "fig5_two_flank",
-    "fig6a_limit_surface",
-    "fig6b_potential_surface",
-    "fig7_associated",
-    "heightmap_polar",
-    # laws (core)
+    # laws, Figs. 1 and 3
     "coulomb_cone",
     "orthotropic_ellipse",
     "dissipation_function",
@@ -51,13 +49,21 @@ __all__ = [
     "wedge_limit_curve",
     "wedge_elliptic",
     "wedge_parabolic",
-    # configuration softening (§3)
+    # asperity mechanisms, Figs. 5-7
+    "limit_curve",
+    "fig5_two_flank",
+    "fig6a_limit_surface",
+    "fig6b_potential_surface",
+    "fig7_associated",
+    "heightmap_polar",
+    # configuration softening, Figs. 8-9
     "limit_evolution",
+    "path_force",
     "cylinder_limit_evolution",
     "sphere_limit_evolution",
     "softening_curve",
     "pocket_peak_force",
-    # elastic-plastic contact, Fig. 10 (§4)
+    # elastic-plastic contact, Fig. 10
     "cap_surface",
     "cap_hardening",
     "cap_shear_curves",

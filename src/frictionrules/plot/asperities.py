@@ -7,6 +7,7 @@ import numpy as np
 
 from ..asperities import TwoFlankAsperity, from_heightmap
 from ..asperities.surfaces import machined_surface
+from ._layout import label, legend_beside, place_labels, polar_radius_labels
 
 FIG5 = dict(alpha1=np.pi / 3, alpha2=5 * np.pi / 6, mu=1.0)
 #: Fig. 7 needs delta + rho < pi/2 for the associated two-flank mechanism; mu = 1 of Fig. 5 is
@@ -67,8 +68,7 @@ def limit_curve(law, Q: float = 1.0, ax=None, box: float = 4.0, potentials: bool
         for c in curve.concave_corners:
             if np.max(np.abs(c.T)) <= box:
                 ax.plot(*c.T, "ko", ms=5, mfc="none")
-                ax.annotate(f"{np.rad2deg(c.interior):.1f}°", c.T, textcoords="offset points",
-                            xytext=(6, -12 if c.T[1] < 0 else 6), fontsize=8)
+                label(ax, f"{np.rad2deg(c.interior):.1f}°", c.T)
     ax.plot(0, 0, "k+")
     ax.set_xlim(-box, box)
     ax.set_ylim(-box, box)
@@ -76,7 +76,15 @@ def limit_curve(law, Q: float = 1.0, ax=None, box: float = 4.0, potentials: bool
     ax.set_xlabel("$T_x/Q$" if Q == 1 else "$T_x$")
     ax.set_ylabel("$T_y/Q$" if Q == 1 else "$T_y$")
     ax.grid(alpha=0.3)
+    place_labels(ax, ax.texts)
     return ax
+
+
+def _normals(law) -> np.ndarray:
+    """Unit facet normals ``(K, 3)`` of a facet law (a method of a two-flank asperity, an
+    attribute of a facet set)."""
+    n = law.normals
+    return np.asarray(n() if callable(n) else n, dtype=float)
 
 
 def _potential(ax, law, curve, i, Q, box, color):
@@ -91,7 +99,7 @@ def _potential(ax, law, curve, i, Q, box, color):
         s = np.linspace(-3 * box, 3 * box, 2)
         ax.plot(*(p0 + s[:, None] * e).T, ":", color=color, lw=1)
         return
-    n = law._facets.normal_array[ids[0]]
+    n = _normals(law)[ids[0]]
     # g = |F_t| = C: an ellipse about the load with F parallel to n (no in-plane force)
     centre = -Q * n[:2] / n[2]
     F = np.array([*T, -Q])
@@ -107,31 +115,87 @@ def fig5_two_flank(ax=None):
     two-flank asperity, alpha1 = pi/3, alpha2 = 5 pi/6, mu = 1, with its concave corners."""
     law = TwoFlankAsperity(**FIG5)
     ax = limit_curve(law, ax=ax, box=4.0)
-    ax.plot([], [], "k:", lw=1, label="potentials (2.14), (2.15)")
+    ax.plot([], [], "k:", lw=1, label="potentials $g = 0$ through a point of each piece,\n"
+            "ellipses (2.14), lines $T_y = \\pm C$ (2.15)")
     ax.plot([], [], "ko", mfc="none", label="concave corners (interior angle)")
-    ax.set_title("Fig. 5  two flanks: $\\alpha_1 = \\pi/3$, $\\alpha_2 = 5\\pi/6$, $\\mu$ = 1")
-    ax.legend(loc="lower left", fontsize=7)
+    ax.plot([], [], "k+", label="origin $T = 0$")
+    ax.set_title("Fig. 5  limit curve $f = 0$ (2.9), (2.12) and potentials $g = 0$, $Q$ = 1\n"
+                 "two flanks $\\alpha_1 = \\pi/3$, $\\alpha_2 = 5\\pi/6$, $\\mu$ = 1", fontsize=10)
+    legend_beside(ax, "right")
     return ax
 
 
-def fig6a_limit_surface(ax=None, q_max: float = 1.0, box: float = 3.0):
-    """Fig. 6a: the limit surface f = 0 in (Tx, Ty, Q): a cone over the Fig. 5 curve."""
-    ax = _axes(ax, "3d")
+def _section(curve, box):
+    """The finite part of a limit curve within ``|T| <= box`` as one run ordered by direction
+    (rolled so that a locked or clipped gap, if any, falls at the ends): ``(T, labels)``."""
+    ok = np.isfinite(curve.load) & (np.max(np.abs(curve.T), axis=-1, initial=0.0) <= box)
+    shift = -int(np.argmin(ok)) if not ok.all() else 0
+    keep = np.roll(ok, shift)
+    return np.roll(curve.T, shift, axis=0)[keep], np.roll(np.array(curve.labels), shift)[keep]
+
+
+def _pockets(T):
+    """Pieces of the polygon ``T`` (ordered along the curve) that lie inside its convex hull:
+    where the section is concave. Each is the run of points the hull skips, closed by the hull
+    chord; slivers of the discretization (area < 1e-4 of the hull) are dropped."""
+    from scipy.spatial import ConvexHull
+
+    hull = ConvexHull(T)
+    out = []
+    for a, b in zip(*(lambda v: (v[:-1], v[1:]))(np.sort(hull.vertices))):
+        poly = T[a:b + 1]
+        area = 0.5 * abs(poly[:, 0] @ np.roll(poly[:, 1], 1) - poly[:, 1] @ np.roll(poly[:, 0], 1))
+        if b - a > 1 and area > 1e-4 * hull.volume:
+            out.append(poly)
+    return out
+
+
+def fig6a_limit_surface(ax=None, q_max: float = 1.0, box: float = 4.0):
+    """Fig. 6a: the limit surface f = 0 in (Tx, Ty, Q): a cone over the Fig. 5 curve.
+
+    Seen from above, with the section at ``Q = q_max`` drawn: where the section falls short of
+    its convex hull (shaded) the surface is concave; the generators through the concave corners
+    of Fig. 5 are its concave edges.
+    """
+    from matplotlib.colors import LightSource, to_rgb
+    from matplotlib.patches import Patch
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+    ax = _axes(ax, "3d", size=(7.5, 6.0))
     law = TwoFlankAsperity(**FIG5)
-    curve = law.limit_curve(1.0, n=1440)
-    Qs = np.linspace(0.0, q_max, 12)
+    curve = law.limit_curve(1.0, n=360)
+    T, labels = _section(curve, box / q_max)
+    T = q_max * T
     color = {"0": _COLORS[0], "0+1": _COLORS[1], "1": _COLORS[2]}   # as in Fig. 5
-    for lab, idx in _pieces(curve, box / q_max):
-        P = curve.T[idx]
-        X, Y = Qs[:, None] * P[None, :, 0], Qs[:, None] * P[None, :, 1]
-        Z = np.broadcast_to(Qs[:, None], X.shape)
-        ax.plot_surface(X, Y, Z, color=color[lab], alpha=0.45, linewidth=0)
+    s = np.linspace(0.0, 1.0, 13)[:, None]
+    rgb = 0.4 + 0.6 * np.array([to_rgb(color[lab]) for lab in labels])
+    faces = np.concatenate((np.broadcast_to(rgb[None, :-1], (len(s) - 1, len(T) - 1, 3)),
+                            np.full((len(s) - 1, len(T) - 1, 1), 0.8)), axis=-1)
+    ax.plot_surface(s * T[:, 0], s * T[:, 1], np.broadcast_to(s * q_max, (len(s), len(T))),
+                    facecolors=faces, shade=True, lightsource=LightSource(azdeg=315, altdeg=65),
+                    linewidth=0, rstride=1, cstride=1)
+    ax.plot(T[:, 0], T[:, 1], q_max, "k", lw=1.2, label=f"section $Q$ = {q_max:g} (Fig. 5)")
+    for poly in _pockets(T):
+        ax.add_collection3d(Poly3DCollection([np.column_stack((poly, np.full(len(poly), q_max)))],
+                                             facecolor="gold", edgecolor="k", linestyle="--",
+                                             lw=0.8, alpha=0.55))
+    for k, c in enumerate(curve.concave_corners):
+        ax.plot([0.0, q_max * c.T[0]], [0.0, q_max * c.T[1]], [0.0, q_max], "k-", lw=1.8,
+                label=None if k else "concave edges (through the corners of Fig. 5)")
+    handles = [Patch(color=0.4 + 0.6 * np.array(to_rgb(color[k])), label=name)
+               for k, name in (("0", "flank 1 slides"), ("0+1", "both flanks slide"),
+                               ("1", "flank 2 slides"))]
+    handles.append(Patch(facecolor="gold", edgecolor="k", linestyle="--",
+                         label="between the section and its convex hull: concave"))
     ax.set_xlabel("$T_x$")
     ax.set_ylabel("$T_y$")
     ax.set_zlabel("$Q$")
-    ax.set_title("Fig. 6a  limit surface $f = 0$\n(blue: flank 1, red: both flanks, "
-                 "green: flank 2)", fontsize=9)
-    ax.view_init(elev=25, azim=-60)
+    ax.set_box_aspect((1.0, 1.0, 0.5))
+    ax.view_init(elev=60, azim=-105)
+    ax.set_title(f"Fig. 6a  limit surface $f = 0$ in $(T_x, T_y, Q)$: a cone over the limit curve "
+                 f"of Fig. 5\n$\\alpha_1 = \\pi/3$, $\\alpha_2 = 5\\pi/6$, $\\mu$ = 1, "
+                 f"$|T_x|, |T_y| \\leq$ {box:g} shown", fontsize=9)
+    legend_beside(ax, "below", handles=ax.get_legend_handles_labels()[0] + handles, ncol=2)
     return ax
 
 
@@ -155,11 +219,18 @@ def fig6b_potential_surface(ax=None, C: float = 1.0, q_max: float = 1.0):
         X = Qs[:, None] * (t2 + s[None, :] * (t1 - t2))
         ax.plot_surface(X, np.full(X.shape, sign * C), np.broadcast_to(Qs[:, None], X.shape),
                         color=_COLORS[1], alpha=0.45, linewidth=0)
+    from matplotlib.patches import Patch
     ax.set_xlabel("$T_x$")
     ax.set_ylabel("$T_y$")
     ax.set_zlabel("$Q$")
-    ax.set_title("Fig. 6b  potential surfaces $g = C$ (2.14), (2.15)")
+    ax.set_yticks([-C, 0.0, C])
+    ax.set_title(f"Fig. 6b  potential surfaces $g = C$ in $(T_x, T_y, Q)$, $C$ = {C:g}\n"
+                 "$\\alpha_1 = \\pi/3$, $\\alpha_2 = 5\\pi/6$, $\\mu$ = 1", fontsize=10)
     ax.view_init(elev=25, azim=-60)
+    legend_beside(ax, "below", ncol=2, handles=[
+        Patch(color=_COLORS[0], alpha=0.45, label="flank 1: elliptic cylinder (2.14)"),
+        Patch(color=_COLORS[2], alpha=0.45, label="flank 2: elliptic cylinder (2.14)"),
+        Patch(color=_COLORS[1], alpha=0.45, label="both flanks: planes $T_y = \\pm C$ (2.15)")])
     return ax
 
 
@@ -173,8 +244,13 @@ def fig7_associated(ax=None):
                     style=style, label_prefix=f"{local}: ")
     ax.set_xlim(-2.0, 4.0)                 # the corners and the both-flank lines, enlarged
     ax.set_ylim(-2.5, 2.5)
-    ax.set_title("Fig. 7  associated (solid) and non-associated (broken), $\\mu$ = 0.5")
-    ax.legend(loc="lower left", fontsize=7)
+    ax.plot([], [], "ko", mfc="none", label="concave corners, non-associated\n(interior angle)")
+    ax.plot([], [], "k+", label="origin $T = 0$")
+    ax.set_title("Fig. 7  limit curves $f = 0$: associated local rule (1.6) (solid) and\n"
+                 "non-associated (1.5) (broken), $\\alpha_1 = \\pi/3$, $\\alpha_2 = 5\\pi/6$, "
+                 "$\\mu$ = 0.5, $Q$ = 1", fontsize=10)
+    place_labels(ax, ax.texts)
+    legend_beside(ax, "right")
     return ax
 
 
@@ -191,6 +267,8 @@ def heightmap_polar(ax=None, mu: float = 0.2, n: int = 512):
     m = law.friction_coefficient(theta)
     ax.plot(theta, m, "k", label=f"machined map, {len(law.normals)} facet groups")
     ax.plot(theta, np.full_like(theta, mu), "k:", lw=0.8, label=f"local $\\mu$ = {mu:g}")
-    ax.set_title("$\\mu(\\theta)$ of a 512 x 512 height map", fontsize=10)
-    ax.legend(loc="lower left", fontsize=7, bbox_to_anchor=(-0.1, -0.12))
+    ax.set_title(f"friction coefficient $\\mu(\\theta)$ for sliding at $\\theta$ of a synthetic "
+                 f"machined\n{n} x {n} height map (grooves along $y$ plus roughness)", fontsize=10, pad=14)
+    legend_beside(ax, "below", ncol=2)
+    polar_radius_labels(ax)
     return ax

@@ -1,81 +1,179 @@
-"""Figures of §3: evolution of the limit curves along a path (Figs. 8, 9), the softening curve
-T(|u|) and the direction-dependent peak force of a grain in a square or hexagonal pocket."""
+"""Figures of §3: evolution of the limit curves along a path (Figs. 8, 9) with the force along
+the path, the exact and incremental softening curves T(|u|) and the direction-dependent peak
+force of a grain in a square or hexagonal pocket."""
 
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["limit_evolution", "cylinder_limit_evolution", "sphere_limit_evolution", "softening_curve",
-           "pocket_peak_force"]
+from ._layout import arrow, label, legend_beside, place_labels, polar_radius_labels
+
+__all__ = ["limit_evolution", "path_force", "cylinder_limit_evolution", "sphere_limit_evolution",
+           "softening_curve", "pocket_peak_force"]
+
+#: Diameter and local friction of the §3 figures; the vertical load is the default Q = 1, so
+#: forces read in units of Q.
+_D = 1.0
+
+
+def _stations(res, points: int) -> np.ndarray:
+    return np.linspace(0, len(res.position) - 1, points).round().astype(int)
+
+
+def _colours(points: int):
+    import matplotlib.pyplot as plt
+    return plt.cm.viridis(np.linspace(0.0, 0.85, points))
+
+
+def _nice(x: float) -> float:
+    """The largest of 1, 2, 5 times a power of ten not above ``x``."""
+    e = 10.0 ** np.floor(np.log10(x))
+    return max(m * e for m in (1.0, 2.0, 5.0) if m * e <= x)
 
 
 def limit_evolution(model, path, ax=None, points: int = 6, scale: float | None = None,
-                    title: str | None = None):
+                    title: str | None = None, force_ax=None):
     """Limit curves f = 0 drawn in the displacement plane at ``points`` stations of ``path``.
 
     The trajectory is drawn in the ``(u_x, u_y)`` plane; at each station (numbered 1, 2, ...)
     the force axes ``(T_x, T_y)`` are attached (the local frame translating along the path,
     as in Figs. 8 and 9), with the limit curve of the current configuration and the force
-    ``T`` that keeps the grain sliding, both scaled by ``scale`` (length per unit force).
+    ``T`` that keeps the grain sliding, both scaled by ``scale`` (length per unit force; by
+    default the largest that keeps neighbouring curves apart). A scale bar under the axes
+    gives the force scale.
+
+    When ``ax`` is omitted the figure has a second panel, ``force_ax``, with the companion
+    plot of ``|T|`` against the distance travelled (:func:`path_force`); pass both ``ax`` and
+    ``force_ax`` to draw the pair on given axes. Returns ``ax``.
     """
     import matplotlib.pyplot as plt
 
-    from ..configuration import GrainState
+    if ax is None:
+        fig, (ax, force_ax) = plt.subplots(1, 2, figsize=(12.0, 5.2),
+                                           gridspec_kw={"width_ratios": (1.35, 1.0), "wspace": 0.28})
+    res = model.displacement_path(path)
+    idx = _stations(res, points)
+    direction = float(np.arctan2(*(res.position[-1] - res.position[0])[::-1]))
+    curves = [model.limit_curve(model.state_at(res.position[i], direction)) for i in idx]
+    if scale is None:
+        e = (res.position[idx[-1]] - res.position[idx[0]]) / np.hypot(*(res.position[idx[-1]] - res.position[idx[0]]))
+        step = np.hypot(*(res.position[idx[1]] - res.position[idx[0]]))
+        width = max(np.ptp(c @ e) for c in curves)
+        scale = 0.9 * step / width
+    ax.plot(res.position[:, 0], res.position[:, 1], "k-", lw=1.0, label="trajectory $u$ of the centre")
+    colours = _colours(points)
+    numbers = []
+    for m, (i, col, curve) in enumerate(zip(idx, colours, curves), start=1):
+        o = res.position[i]
+        ax.plot(o[0] + scale * curve[:, 0], o[1] + scale * curve[:, 1], color=col, lw=1.4,
+                label=f"{m}: $f = 0$ at $\\alpha$ = {np.degrees(res.alpha[i]) + 0.0:.1f}°"
+                      + ("" if model.layer.cylindrical
+                         else f", $\\psi$ = {np.degrees(res.psi[i]) + 0.0:.0f}°"))
+        arrow(ax, o, o + scale * res.force[i], col,
+              label="force $T$ that keeps the grain sliding" if m == 1 else None)
+        ax.plot(*o, "o", color=col, ms=4, label="stations 1–6: origins of the force axes" if m == 1 else None)
+        numbers.append(label(ax, str(m), o, fontsize=9))
+    ax.set_aspect("equal")
+    ax.margins(0.08)
+    ax.set_xlabel("$u_x$ (displacement; force $T_x$ about each station)")
+    ax.set_ylabel("$u_y$ (displacement; force $T_y$ about each station)")
+    ax.set_title(title or "limit curves along the path", fontsize=10)
+    ax.grid(alpha=0.3)
+    place_labels(ax, numbers)
+    _force_scale_bar(ax, scale, max(np.abs(np.concatenate(curves)).max(), 1e-300))
+    _stations_legend(ax)
+    if force_ax is not None:
+        path_force(model, path, ax=force_ax, points=points, result=res)
+    return ax
+
+
+def _stations_legend(ax):
+    """Legend under the axes: the marks first, then the limit curves of the stations in order."""
+    handles, labels = ax.get_legend_handles_labels()
+    order = sorted(range(len(labels)), key=lambda k: (labels[k][:1].isdigit(), k))
+    return legend_beside(ax, "below", ncol=2, handles=[handles[k] for k in order],
+                         labels=[labels[k] for k in order])
+
+
+def _force_scale_bar(ax, scale: float, fmax: float):
+    """A bar under the axes whose length is a round force in the data units of the plot."""
+    from matplotlib.offsetbox import AnchoredOffsetbox, AuxTransformBox, HPacker, TextArea
+    from matplotlib.patches import Rectangle
+
+    F = _nice(0.5 * fmax)
+    fig = ax.figure
+    fig.draw_without_rendering()
+    box = ax.get_tightbbox(fig.canvas.get_renderer())
+    y0 = ax.transAxes.inverted().transform((box.x0, box.y0))[1]
+    bar = AuxTransformBox(ax.transData)
+    bar.add_artist(Rectangle((0, 0), scale * F, 0, ec="k", lw=2.5))
+    packed = HPacker(children=[TextArea(f"force scale: |T| = {F:g}", textprops={"size": 8}), bar],
+                     align="center", pad=0, sep=8)
+    anchored = AnchoredOffsetbox(loc="upper right", child=packed, frameon=False, pad=0.1,
+                                 bbox_to_anchor=(1.0, y0 - 0.01), bbox_transform=ax.transAxes)
+    ax.add_artist(anchored)
+    # the legend goes below the bar: make the bar part of the axes' tight box
+    anchored.set_in_layout(True)
+    return anchored
+
+
+def path_force(model, path, ax=None, points: int = 6, result=None):
+    """Companion of :func:`limit_evolution`: the force ``|T|`` that keeps the grain sliding
+    along ``path`` against the distance travelled ``|u|``, with the stations 1, 2, ... of the
+    limit-curve plot marked in their colours.
+
+    Contact softening (§3): climbing the neighbour flattens the contact plane, so ``|T|``
+    falls as ``|u|`` grows."""
+    import matplotlib.pyplot as plt
 
     if ax is None:
-        _, ax = plt.subplots(figsize=(7.5, 5.5))
-    res = model.displacement_path(path)
-    idx = np.linspace(0, len(res.position) - 1, points).round().astype(int)
-    if scale is None:
-        step = np.hypot(*(res.position[idx[1]] - res.position[idx[0]]))
-        scale = 0.7 * step / max(res.force_magnitude.max(), model.Q * model.mu)
-    ax.plot(res.position[:, 0], res.position[:, 1], "k-", lw=1.0, label="trajectory")
-    colours = plt.cm.viridis(np.linspace(0.0, 0.9, points))
-    for m, (i, col) in enumerate(zip(idx, colours), start=1):
-        st = GrainState(res.position[i], res.height[i], res.contacts[i], (res.alpha[i],),
-                        (res.psi[i],))
-        o = res.position[i]
-        curve = model.limit_curve(st)
-        ax.plot(o[0] + scale * curve[:, 0], o[1] + scale * curve[:, 1], color=col, lw=1.4,
-                label=f"{m}: alpha = {np.degrees(res.alpha[i]) + 0.0:.1f} deg"
-                      + ("" if model.layer.cylindrical
-                         else f", psi = {np.degrees(res.psi[i]) + 0.0:.0f} deg"))
-        ax.annotate("", o + scale * res.force[i], o,
-                    arrowprops=dict(arrowstyle="->", color=col, lw=1.2))
-        ax.plot(*o, "o", color=col, ms=4)
-        ax.annotate(str(m), o, xytext=(-10, -12), textcoords="offset points", fontsize=9)
-    ax.set_aspect("equal")
-    ax.set_xlabel("u_x / d  (force axes T_x at each station)")
-    ax.set_ylabel("u_y / d  (force axes T_y)")
-    ax.set_title(title or "limit curves along the path")
-    ax.legend(fontsize=7, loc="best")
+        _, ax = plt.subplots(figsize=(5.5, 4.2))
+    res = model.displacement_path(path) if result is None else result
+    d, T = res.distance, res.force_magnitude
+    ax.plot(d, T, "k-", lw=1.2, label="$|T|$ to keep sliding")
+    e = (res.position[-1] - res.position[0]) / max(np.hypot(*(res.position[-1] - res.position[0])), 1e-300)
+    ax.plot(d, res.force @ e, "k--", lw=0.9, label="$T \\cdot e$ along the motion")
+    numbers = []
+    for m, (i, col) in enumerate(zip(_stations(res, points), _colours(points)), start=1):
+        ax.plot(d[i], T[i], "o", color=col, ms=6, label="stations 1–6 of the left panel" if m == 1 else None)
+        numbers.append(label(ax, str(m), (d[i], T[i]), fontsize=9))
+    ax.axhline(0.0, color="0.5", lw=0.6)
+    ax.margins(x=0.04, y=0.12)
+    ax.set_xlabel("distance travelled $|u|$")
+    ax.set_ylabel("force $T$")
+    ax.set_title("force along the path: contact softening", fontsize=10)
     ax.grid(alpha=0.3)
+    place_labels(ax, numbers)
+    legend_beside(ax, "below", ncol=1)
     return ax
 
 
 def cylinder_limit_evolution(ax=None, mu: float = 0.3):
     """Fig. 8: a cylinder pushed obliquely (20 deg to x) from the groove to the top of its
     neighbour; the limit ellipses (2.2) shrink towards the circle ``|T| = mu Q`` and their
-    centre ``Q tan(alpha)`` moves to the origin: contact softening."""
+    centre ``Q tan(alpha)`` moves to the origin: contact softening. Diameter d = 1, Q = 1."""
     from ..configuration import CylinderOnLayer
 
-    cyl = CylinderOnLayer(1.0, mu)
+    cyl = CylinderOnLayer(diameter=_D, mu=mu)
     th = np.radians(20.0)
     path = cyl.straight_path(th, 0.5 / np.cos(th), 201)
-    return limit_evolution(cyl, path, ax, title=f"Fig. 8: cylinder on a layer of cylinders, mu = {mu}")
+    return limit_evolution(cyl, path, ax, title=f"Fig. 8  cylinder sliding on a layer of cylinders, "
+                                                 f"pushed at 20° to $x$\n$d$ = 1, $Q$ = 1, $\\mu$ = {mu:g}")
 
 
 def sphere_limit_evolution(ax=None, mu: float = 0.3):
     """Fig. 9: a sphere pushed along a straight line (30 deg to x) that passes beside the top of
-    the layer sphere; the limit curves translate, shrink and rotate with ``psi``."""
+    the layer sphere; the limit curves translate, shrink and rotate with ``psi``. Diameter
+    d = 1, Q = 1."""
     from ..configuration import SphereOnLayer
 
-    sph = SphereOnLayer(1.0, mu)
+    sph = SphereOnLayer(diameter=_D, mu=mu)
     path = sph.straight_path(np.radians(30.0), 1.0, 201)
-    ax = limit_evolution(sph, path, ax, title=f"Fig. 9: sphere sliding over a layer sphere (+), mu = {mu}")
-    ax.plot(1 / np.sqrt(3), 0.0, "k+", ms=10)
-    ax.add_patch(__import__("matplotlib.patches", fromlist=["Circle"]).Circle(
-        (1 / np.sqrt(3), 0.0), 0.5, fill=False, ls=":", color="0.5"))
+    ax = limit_evolution(sph, path, ax, title=f"Fig. 9  sphere sliding on a layer sphere, pushed at "
+                                              f"30° to $x$\n$d$ = 1, $Q$ = 1, $\\mu$ = {mu:g}")
+    # the layer sphere's centre, at (d / sqrt(3), 0) from the pocket (the "single" layer)
+    ax.plot(_D / np.sqrt(3.0), 0.0, "k+", ms=10, label="top of the layer sphere")
+    _stations_legend(ax)
     return ax
 
 
@@ -89,27 +187,26 @@ def softening_curve(ax=None, mu: float = 0.3):
 
     if ax is None:
         _, ax = plt.subplots(figsize=(7, 4.5))
-    cyl = CylinderOnLayer(1.0, mu)
-    sph = SphereOnLayer(1.0, mu)
-    cases = [(cyl, 0.0, 1.999, "cylinder", "C0"),
+    cyl = CylinderOnLayer(diameter=_D, mu=mu)
+    sph = SphereOnLayer(diameter=_D, mu=mu)
+    cases = [(cyl, 0.0, 1.999, "cylinder over two neighbours", "C0"),
              (sph, 0.0, 1.0, "sphere, over the top", "C1"),
-             (sph, np.radians(30.0), 1.0, "sphere, 30 deg beside the top", "C2")]
-    for model, th, length, label, col in cases:
+             (sph, np.radians(30.0), 1.0, "sphere, 30° beside the top", "C2")]
+    for model, th, length, text, col in cases:
         e = np.array([np.cos(th), np.sin(th)])
         ex = model.displacement_path(model.straight_path(th, length, 401))
-        ax.plot(ex.distance, ex.force @ e / model.Q, color=col, label=f"{label} (exact)")
+        ax.plot(ex.distance, ex.force @ e, color=col, label=f"{text} (exact)")
         inc = model.displacement_path(model.straight_path(th, length, 41), "incremental")
-        ax.plot(inc.distance, inc.force @ e / model.Q, "o", color=col, ms=3.5, mfc="none",
-                label=f"{label} (incremental, 40 steps)")
-    ax.axhline(mu, color="0.5", ls="--", lw=0.8)
+        ax.plot(inc.distance, inc.force @ e, "o", color=col, ms=3.5, mfc="none",
+                label=f"{text} (incremental, 40 Euler steps)")
+    ax.axhline(mu, color="0.5", ls="--", lw=0.8, label="$\\mu Q$: on the top of a neighbour")
     ax.axhline(0.0, color="k", lw=0.6)
-    ax.annotate("mu Q: top of the neighbour", (1.2, mu), xytext=(0, 4), textcoords="offset points",
-                fontsize=8)
-    ax.set_xlabel("|u| / d")
-    ax.set_ylabel("T (along the motion) / Q")
-    ax.set_title(f"Contact softening: force to keep sliding, mu = {mu}")
-    ax.legend(fontsize=7)
+    ax.set_xlabel("distance travelled $|u|/d$")
+    ax.set_ylabel("$T$ along the motion $/Q$")
+    ax.set_title(f"contact softening: force to keep sliding, exact and incremental (3.3)–(3.13), "
+                 f"$\\mu$ = {mu:g}", fontsize=10)
     ax.grid(alpha=0.3)
+    legend_beside(ax, "right")
     return ax
 
 
@@ -129,7 +226,7 @@ def pocket_peak_force(ax=None, mu: float = 0.3, n: int = 361):
         _, ax = plt.subplots(figsize=(6.5, 6.5), subplot_kw={"projection": "polar"})
     th = np.linspace(0.0, 2 * np.pi, n)
     for packing, col in (("square", "C0"), ("hexagonal", "C3")):
-        sph = SphereOnLayer(1.0, mu, packing=packing)
+        sph = SphereOnLayer(diameter=_D, mu=mu, packing=packing)
         bo = sph.breakout_force(th)
         ax.plot(th, bo.peak, color=col, lw=1.0, label=f"{packing}: force direction, over one")
         ax.plot(th, np.where(bo.count == 2, bo.peak, np.nan), color=col, lw=3.5, alpha=0.7,
@@ -137,6 +234,8 @@ def pocket_peak_force(ax=None, mu: float = 0.3, n: int = 361):
         pk = sph.peak_force(th[::4], n=61)
         ax.plot(pk.direction, pk.peak, "--", color=col, lw=0.8,
                 label=f"{packing}: displacement direction")
-    ax.set_title(f"peak |T|/Q to leave the pocket, mu = {mu}", fontsize=10)
-    ax.legend(fontsize=7, loc="lower left", bbox_to_anchor=(-0.12, -0.2), ncol=2)
+    ax.set_title(f"peak force $|T|/Q$ to leave a pocket of the layer, against the direction "
+                 f"(degrees from $x$)\n$d$ = 1, $\\mu$ = {mu:g}", fontsize=10, pad=14)
+    legend_beside(ax, "below", ncol=2)
+    polar_radius_labels(ax)
     return ax

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..laws import Coulomb, EllipticOrthotropic, Huber, TransformedCoulomb, WedgeAsperity
+from ._layout import arrow, label, legend_beside, place_labels, polar_radius_labels
 
 
 def _axes(ax, projection=None):
@@ -13,13 +14,6 @@ def _axes(ax, projection=None):
         return ax
     fig = plt.figure(figsize=(5.5, 5.0))
     return fig.add_subplot(111, projection=projection)
-
-
-def _arrow(ax, start, end, color):
-    """Arrow from ``start`` to ``end`` that also keeps both ends inside the autoscaled view."""
-    ax.annotate("", end, start, arrowprops=dict(arrowstyle="->", color=color), annotation_clip=False)
-    ax.update_datalim(np.stack((start, end)))
-    ax.autoscale_view()
 
 
 def coulomb_cone(ax=None, mu: float = 0.5, n_max: float = 1.0):
@@ -37,12 +31,12 @@ def coulomb_cone(ax=None, mu: float = 0.5, n_max: float = 1.0):
         v = Coulomb(mu, dilatant).slip_direction(T0, N0)
         # a slip (v1, v2, vn) is drawn in force space as (v1, v2, -vn): conjugate to (T, -N)
         ax.quiver(T0[0], T0[1], N0, L * v[0], L * v[1], -L * v[2], color=color, label=label)
-    ax.scatter(*T0, N0, color="k")
+    ax.scatter(*T0, N0, color="k", label="a limit force $(T, N)$ on the cone")
     ax.set_xlabel("$T_x$")
     ax.set_ylabel("$T_y$")
     ax.set_zlabel("$N$")
     ax.set_title(f"Fig. 1a  Coulomb cone $|T| = \\mu N$, $\\mu$ = {law.mu:g}")
-    ax.legend(loc="upper left", fontsize=8)
+    legend_beside(ax, "below", ncol=2)
     return ax
 
 
@@ -53,18 +47,17 @@ def orthotropic_ellipse(ax=None, mu_x: float = 0.6, mu_y: float = 0.3, N: float 
     law = EllipticOrthotropic(mu_x, mu_y)
     phi = np.linspace(0, 2 * np.pi, 361)
     ax.plot(mu_x * N * np.cos(phi), mu_y * N * np.sin(phi), "k", label="$f = 0$ (1.9)")
-    for theta in np.deg2rad([20.0, 50.0, 75.0, 130.0, 250.0]):
+    for k, theta in enumerate(np.deg2rad([20.0, 50.0, 75.0, 130.0, 250.0])):
         T = law.force_for_slip([np.cos(theta), np.sin(theta)], N)
         v = law.slip_direction(T, N)
-        _arrow(ax, np.zeros(2), T, "tab:blue")
-        _arrow(ax, T, T + 0.25 * N * v[:2], "tab:red")
-    ax.plot([], [], color="tab:blue", label="force $T$ at angle $\\beta$")
-    ax.plot([], [], color="tab:red", label="slip $V$ at angle $\\alpha$ (normal to f)")
+        arrow(ax, np.zeros(2), T, "tab:blue", label=None if k else "force $T$ at angle $\\beta$")
+        arrow(ax, T, T + 0.25 * N * v[:2], "tab:red",
+              label=None if k else "slip $V$ at angle $\\alpha$ (normal to $f$, (1.10))")
     ax.set_aspect("equal")
     ax.set_xlabel("$T_x$")
     ax.set_ylabel("$T_y$")
-    ax.set_title(f"Fig. 1b  orthotropic limit, $\\mu_x$ = {mu_x:g}, $\\mu_y$ = {mu_y:g}")
-    ax.legend(loc="lower left", fontsize=8)
+    ax.set_title(f"Fig. 1b  orthotropic limit, $\\mu_x$ = {mu_x:g}, $\\mu_y$ = {mu_y:g}, $N$ = {N:g}")
+    legend_beside(ax, "below", ncol=2)
     ax.grid(alpha=0.3)
     return ax
 
@@ -88,9 +81,11 @@ def dissipation_function(ax=None, mu_x: float = 0.6, mu_y: float = 0.3, N: float
     theta = np.deg2rad(35.0)
     V = 1.2 * np.array([np.cos(theta), np.sin(theta)])
     T = law.force_for_slip(V, N)
-    _arrow(ax, V, V + T, "tab:blue")
+    arrow(ax, V, V + T, "tab:blue")
     ax.plot(*V, "ko")
-    ax.text(*(V + T), " $T = \\partial D/\\partial V$", fontsize=8)
+    ax.set_xlim(-2, 2)
+    ax.set_ylim(-2, 2)
+    place_labels(ax, [label(ax, "$T = \\partial D/\\partial V$ (1.13)", V + T, "tab:blue")])
     ax.set_aspect("equal")
     ax.set_xlabel("$V_x$")
     ax.set_ylabel("$V_y$")
@@ -107,8 +102,10 @@ def directional_friction(ax=None, mu_x: float = 0.6, mu_y: float = 0.3):
                        (Huber(mu_x, mu_y), "Huber (1.16)"),
                        (TransformedCoulomb(mu_x, mu_y), "transformed (1.17)")):
         ax.plot(theta, law.friction_coefficient(theta), label=label)
-    ax.set_title(f"$\\mu(\\theta)$, $\\mu_x$ = {mu_x:g}, $\\mu_y$ = {mu_y:g}", fontsize=10)
-    ax.legend(loc="lower left", bbox_to_anchor=(-0.15, -0.2), fontsize=8)
+    ax.set_title(f"friction coefficient $\\mu(\\theta)$ for sliding at $\\theta$: three orthotropic "
+                 f"rules,\n$\\mu_x$ = {mu_x:g}, $\\mu_y$ = {mu_y:g}", fontsize=10, pad=14)
+    legend_beside(ax, "below", ncol=2)
+    polar_radius_labels(ax)
     return ax
 
 
@@ -132,22 +129,23 @@ def wedge_limit_curve(law: WedgeAsperity, Q: float = 1.0, phi_P: float = 0.9, ax
     ax.plot(centre[0] + C * np.cos(psi) / c, C * np.sin(psi), "tab:orange", ls="--",
             label="potential $g = 0$ (2.6)")
     R = centre + (P - centre) * C / float(law.potential(P, Q))
-    ax.plot(*np.stack((centre, P)).T, color="0.5", lw=0.8)
+    ax.plot(*np.stack((centre, P)).T, color="0.5", lw=0.8, label="ray O'P from the centre of $g$")
     scale = 0.35 * max(Q, float(np.hypot(*(P - centre))))
-    for point, v, color, label in (
-            (R, law.slip_direction(R, Q), "tab:orange", "slip at R (2.4)"),
-            (P, law.slip_direction(P, Q), "tab:red", "slip at P, parallel"),
-            (P, law.normal_direction(P, Q), "tab:blue", "associated normal at P (2.5)")):
-        _arrow(ax, point, point + scale * v[:2] / np.hypot(*v[:2]), color)
-        ax.plot([], [], color=color, label=label)
+    for point, v, color, text in (
+            (R, law.slip_direction(R, Q), "tab:orange", "slip at R, normal to $g$ (2.4)"),
+            (P, law.slip_direction(P, Q), "tab:red", "actual slip at P (parallel to that at R)"),
+            (P, law.normal_direction(P, Q), "tab:blue", "associated normal to $f$ at P (2.5)")):
+        arrow(ax, point, point + scale * v[:2] / np.hypot(*v[:2]), color, label=text)
+    names = []
     for point, name in ((P, "P"), (R, "R"), (centre, "O'")):
         ax.plot(*point, "ko", ms=3)
-        ax.text(*point, f" {name}")
+        names.append(label(ax, name, point, fontsize=10))
     ax.set_aspect("equal")
     ax.set_xlabel("$T_x/Q$" if Q == 1 else "$T_x$")
     ax.set_ylabel("$T_y/Q$" if Q == 1 else "$T_y$")
-    ax.legend(loc="lower left", fontsize=7)
+    legend_beside(ax, "below", ncol=2)
     ax.grid(alpha=0.3)
+    place_labels(ax, names)
     return ax
 
 
