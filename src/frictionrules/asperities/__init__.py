@@ -5,7 +5,7 @@ closed forms), :func:`from_profile` / :func:`from_heightmap` (facets of real sur
 :func:`fit` (calibration of any law to measured mu(theta)).
 """
 
-from .facets import Corner, FacetSet, LimitCurve, LimitLoad
+from .facets import Corner, FacetSet, LimitCurve, LimitLoad, LimitLoads
 from .calibration import FitResult, compare_fits, fit, format_fits
 from .surfaces import from_heightmap, from_profile
 from .twoflank import TwoFlankAsperity
@@ -17,6 +17,7 @@ __all__ = [
     "from_heightmap",
     "fit",
     "LimitLoad",
+    "LimitLoads",
     "LimitCurve",
     "Corner",
     "FitResult",

@@ -47,13 +47,14 @@ import numpy as np
 
 from ..errors import FrictionRulesError, check_finite, check_scalar
 from ..laws.wedge import WedgeAsperity
-from .facets import _LOCALS, FacetSet, _FacetLaw
+from ._law import FacetLaw
+from .facets import LOCALS, FacetSet
 
 __all__ = ["TwoFlankAsperity"]
 
 
 @dataclass(frozen=True)
-class TwoFlankAsperity(_FacetLaw):
+class TwoFlankAsperity(FacetLaw):
     r"""The two-flank (groove) asperity of Fig. 4 as a facet set with its closed forms.
 
     Parameters
@@ -82,8 +83,8 @@ class TwoFlankAsperity(_FacetLaw):
         object.__setattr__(self, "alpha2", check_scalar("alpha2", self.alpha2, lo=np.pi / 2,
                                                         hi=np.pi, lo_open=True, hi_open=True))
         object.__setattr__(self, "mu", check_scalar("mu", self.mu, lo=0.0, lo_open=True))
-        if self.local not in _LOCALS:
-            raise FrictionRulesError(f"local = {self.local!r} violates local in {_LOCALS}")
+        if self.local not in LOCALS:
+            raise FrictionRulesError(f"local = {self.local!r} violates local in {LOCALS}")
 
     @functools.cached_property
     def _facets(self) -> FacetSet:
