@@ -23,7 +23,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ._hull import TOL, unit
+from ._hull import TOL, cross, unit
 from ._inverse import climb_force, support_force
 from ._results import Mechanisms
 
@@ -175,15 +175,15 @@ def pair_loads(D: np.ndarray, rj: np.ndarray, rk: np.ndarray):
     ``r_j x r_k`` (1, P, 3)."""
     z = np.array([0.0, 0.0, 1.0])
     Dm = D[:, None, :]
-    cjk = np.cross(rj, rk)
+    cjk = cross(rj, rk)
     det = np.sum(Dm * cjk, axis=-1)                                  # (M, P)
     scale = np.linalg.norm(cjk, axis=-1)
     good = np.abs(det) > 1e-12 * scale
     with np.errstate(divide="ignore", invalid="ignore"):
         inv = np.where(good, 1.0 / det, np.nan)
         t = np.sum(z * cjk, axis=-1) * inv
-        Nj = np.sum(Dm * np.cross(z, rk), axis=-1) * inv
-        Nk = np.sum(Dm * np.cross(rj, z), axis=-1) * inv
+        Nj = np.sum(Dm * cross(z, rk), axis=-1) * inv
+        Nk = np.sum(Dm * cross(rj, z), axis=-1) * inv
     return t, Nj, Nk, det, cjk
 
 
@@ -191,7 +191,7 @@ def _pairs(n: np.ndarray, mu: float, associated: bool, threshold: float):
     """Two-facet mechanisms that are kinematically admissible for some load."""
     K = len(n)
     j, k = np.triu_indices(K, 1)
-    e = np.cross(n[j], n[k])
+    e = cross(n[j], n[k])
     norm = np.linalg.norm(e, axis=-1)
     ok = norm > 1e-12
     j, k, e = j[ok], k[ok], e[ok] / norm[ok, None]
@@ -213,10 +213,10 @@ def _pairs(n: np.ndarray, mu: float, associated: bool, threshold: float):
     if not associated and len(j):
         # a facet coplanar with (n_j, n_k) lying strictly between them carries the same line
         # mechanism at a smaller load: keep neighbouring pairs only
-        ax = unit(np.cross(n[j], n[k]))
+        ax = unit(cross(n[j], n[k]))
         coplanar = np.abs(n @ ax.T).T < TOL                               # (P, K)
-        left = np.einsum("pki,pi->pk", np.cross(n[j][:, None, :], n[None, :, :]), ax) > TOL
-        right = np.einsum("pki,pi->pk", np.cross(n[None, :, :], n[k][:, None, :]), ax) > TOL
+        left = np.einsum("pki,pi->pk", cross(n[j][:, None, :], n[None, :, :]), ax) > TOL
+        right = np.einsum("pki,pi->pk", cross(n[None, :, :], n[k][:, None, :]), ax) > TOL
         keep = ~np.any(coplanar & left & right, axis=-1)
         j, k, v = j[keep], k[keep], v[keep]
     r = np.stack((_reaction(n[j], v, mu), _reaction(n[k], v, mu)), axis=1)

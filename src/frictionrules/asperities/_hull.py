@@ -20,6 +20,13 @@ def unit(v: np.ndarray) -> np.ndarray:
     return v / np.linalg.norm(v, axis=-1, keepdims=True)
 
 
+def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """``a x b`` over the last axis of 3-vectors (``np.cross``'s arithmetic, less overhead)."""
+    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
+    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
+    return np.stack((a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0), axis=-1)
+
+
 def facet_frames(n: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Tangent axes ``(t1, t2)``, each ``(K, 3)``, of facets with unit normals ``n`` (K, 3)."""
     x = np.array([1.0, 0.0, 0.0])
@@ -28,7 +35,7 @@ def facet_frames(n: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     if along_x.any():
         t1[along_x] = np.array([0.0, 1.0, 0.0]) - n[along_x, 1:2] * n[along_x]
     t1 = unit(t1)
-    return t1, np.cross(n, t1)
+    return t1, cross(n, t1)
 
 
 def boundary_facets(n: np.ndarray) -> np.ndarray:

@@ -22,29 +22,31 @@ def directions(phi: np.ndarray) -> np.ndarray:
     return np.stack((np.cos(phi), np.sin(phi)), axis=-1)
 
 
-def corner(solver, lo: float, hi: float, before: tuple, Q: float) -> Corner:
-    """Bisect the load direction between ``lo`` (mechanism ``before``) and ``hi``."""
-    def mech(phi):
-        return solver.solve(directions(np.array([phi])))
-
+def corners(solver, lo: np.ndarray, hi: np.ndarray, before: list, Q: float) -> list:
+    """Bisect the load directions between ``lo[i]`` (mechanism ``before[i]``) and ``hi[i]``,
+    all corners at once, and classify each by the turning of the tangent."""
+    lo, hi = np.array(lo, dtype=float), np.array(hi, dtype=float)
+    if len(lo) == 0:
+        return []
     for _ in range(BISECTIONS):
+        if np.all(hi - lo <= 4.0 * np.finfo(float).eps * np.maximum(1.0, np.abs(lo))):
+            break                                   # adjacent doubles: nothing left to halve
         mid = 0.5 * (lo + hi)
-        if mech(mid).mechanism(0) == before:
-            lo = mid
-        else:
-            hi = mid
-    s_lo, s_hi = mech(lo), mech(hi)
+        s = solver.solve(directions(mid))
+        same = np.array([s.mechanism(i) == b for i, b in enumerate(before)])
+        lo, hi = np.where(same, mid, lo), np.where(same, hi, mid)
+    s_lo, s_hi = solver.solve(directions(lo)), solver.solve(directions(hi))
     phi = 0.5 * (lo + hi)
-    T = Q * float(s_lo.load[0]) * np.array([np.cos(phi), np.sin(phi)])
-
-    def tangent(s):
-        m = s.normal[0][:2]
-        return np.array([-m[1], m[0]])
-
-    ta, tb = tangent(s_lo), tangent(s_hi)
-    turning = float(np.arctan2(ta[0] * tb[1] - ta[1] * tb[0], ta @ tb))
-    return Corner(T=T, direction=float(np.arctan2(T[1], T[0])), before=s_lo.mechanism(0),
-                  after=s_hi.mechanism(0), turning=turning, interior=float(np.pi - turning))
+    out = []
+    for i in range(len(lo)):
+        T = Q * float(s_lo.load[i]) * np.array([np.cos(phi[i]), np.sin(phi[i])])
+        ma, mb = s_lo.normal[i][:2], s_hi.normal[i][:2]
+        ta, tb = np.array([-ma[1], ma[0]]), np.array([-mb[1], mb[0]])
+        turning = float(np.arctan2(ta[0] * tb[1] - ta[1] * tb[0], ta @ tb))
+        out.append(Corner(T=T, direction=float(np.arctan2(T[1], T[0])), before=s_lo.mechanism(i),
+                          after=s_hi.mechanism(i), turning=turning,
+                          interior=float(np.pi - turning)))
+    return out
 
 
 def climb_force(geo, u: np.ndarray) -> np.ndarray:

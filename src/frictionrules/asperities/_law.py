@@ -17,7 +17,7 @@ import numpy as np
 from ..errors import FrictionRulesError, check_finite, check_scalar
 from ..laws import FrictionLaw, InverseRelation
 from ._hull import unit
-from ._inverse import corner, directions
+from ._inverse import corners, directions
 from ._results import LimitCurve, LimitLoad, LimitLoads
 
 _FLIP = np.array([1.0, 1.0, -1.0])   # d/dF -> d/d(Tx, Ty, Q) with F = (Tx, Ty, -Q)
@@ -106,18 +106,20 @@ class FacetLaw(FrictionLaw):
         fin = np.isfinite(load)
         T = np.where(fin[:, None], np.where(fin, load, 0.0)[:, None] * directions(phi), np.inf)
         vel, nrm = sol.velocity, sol.normal
-        corners = []
+        lo, hi, before = [], [], []
         for i in range(n):
             i2 = (i + 1) % n
             a, b = sol.mechanism(i), sol.mechanism(i2)
             if np.isfinite(load[i]) and np.isfinite(load[i2]) and a != b:
-                hi = phi[i2] + (2.0 * np.pi if i2 == 0 else 0.0)
-                corners.append(corner(solver, phi[i], hi, a, Q))
+                lo.append(phi[i])
+                hi.append(phi[i2] + (2.0 * np.pi if i2 == 0 else 0.0))
+                before.append(a)
         return LimitCurve(Q=Q, direction=phi, T=T, load=load, facets=sol.labelled_facets(),
                           normal_forces=Q * sol.forces, velocity=vel, normal=nrm,
                           rule_angle=_angle(vel, nrm), tangential_rule_angle=_angle(vel[:, :2],
                                                                                     nrm[:, :2]),
-                          corners=tuple(corners), quasi_static=sol.quasi_static)
+                          corners=tuple(corners(solver, lo, hi, before, Q)),
+                          quasi_static=sol.quasi_static)
 
     def limit_surface(self, Q, n: int = 720) -> np.ndarray:
         """Points ``(Tx, Ty, Q)`` of the limit surface, shape ``(len(Q), n, 3)``.
