@@ -71,7 +71,14 @@ def local_law(law, where: str):
             f"{where}: law = {_short(law)}: {what}; constraint: a cone-like local law (its limit "
             "curve at N is N times the one at N = 1), which the mechanism search needs for the "
             "equilibrium of two facets (a 3x3 linear system) and the scaling with Q")
-    return CurveLocal(law, dilatant, twin_of=False)
+    local = CurveLocal(law, dilatant, twin_of=False)
+    if not local.convex:
+        raise FrictionRulesError(
+            f"{where}: law = {_short(law)}: its limit curve at N = 1 is not convex (e.g. Huber "
+            "with a ratio of mu_1 to mu_2 beyond 1.5); constraint: a convex limit condition, on "
+            "which the static maximum and the check that the facets carry Q rely (limit "
+            "analysis)")
+    return local
 
 
 def _short(law) -> str:
@@ -317,6 +324,17 @@ class CurveLocal(_Local):
         s = self._slip(T, np.ones(len(beta)))
         psi = np.divide(s[:, 2], np.hypot(s[:, 0], s[:, 1]))
         return beta, T, fin, _slip_angle(s), psi
+
+    @property
+    def convex(self) -> bool:
+        """The sampled limit curve at ``N = 1`` turns one way only (unbounded parts aside)."""
+        _, T, fin, *_ = self._table
+        e = np.roll(T, -1, axis=0) - T
+        e2 = np.roll(e, -1, axis=0)
+        turn = e[:, 0] * e2[:, 1] - e[:, 1] * e2[:, 0]
+        scale = np.linalg.norm(e, axis=-1) * np.linalg.norm(e2, axis=-1)
+        ok = fin & np.roll(fin, -1) & np.roll(fin, -2)
+        return bool(np.all(turn[ok] >= -1e-9 * scale[ok]))
 
     @property
     def psi_range(self):

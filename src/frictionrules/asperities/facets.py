@@ -74,7 +74,7 @@ def local_argument(law, mu, K: int | None, where: str):
             raise FrictionRulesError(f"{where}: law has {len(items)} entries; constraint: one "
                                      f"local law for all facets or one per facet ({K})")
         return tuple(one(x, f"law[{i}]") for i, x in enumerate(items))
-    return one(law, "mu" if mu is not None else "law")
+    return one(law, "mu")
 
 
 def law_parameters(law) -> dict[str, float]:
