@@ -69,14 +69,7 @@ class CoulombGeometry:
         K = len(self.n)
         step = max(1, CHUNK_ENTRIES // (2 * K * K + len(self.pair_j)))
         out = Mechanisms.concat([self._chunk(d[i:i + step]) for i in range(0, len(d), step)])
-        if self.static is not None:
-            # beyond the static maximum no equilibrium exists with any friction directions:
-            # where it comes before every non-associated sliding equilibrium, the block loses
-            # equilibrium there (and accelerates) instead
-            st = self.static.solve(d)
-            lose = st.load < out.load * (1.0 - 1e-9)
-            out = replace(out.where(lose, st), quasi_static=~lose)
-        return out
+        return static_cap(out, self.static, d)
 
     def one_facet_terms(self, F: np.ndarray, j: np.ndarray, quasi_static: np.ndarray):
         """Gradient in ``F`` of the one-facet limit :math:`f_j = |F_t| + \\mu F\\cdot n_j`, the
@@ -98,12 +91,7 @@ class CoulombGeometry:
         M, n, mu = len(d), self.n, self.mu
         D = np.concatenate((d, np.zeros((M, 1))), axis=-1)
         z = np.array([0.0, 0.0, 1.0])
-        best = np.full(M, np.inf)
-        facets = np.zeros((M, 2), dtype=int)
-        active = np.zeros((M, 2), dtype=bool)
-        forces = np.zeros((M, 2))
-        vel = np.zeros((M, 3))
-        nrm = np.zeros((M, 3))
+        best = Best(M)
 
         # one facet: |F_t| = mu (-F.n), F = t D - z, a quadratic in t
         a = D @ n.T                                     # (M, K)
@@ -133,40 +121,77 @@ class CoulombGeometry:
         t1 = np.where(ok, roots, np.inf)
         flat = t1.reshape(M, -1)
         idx = np.argmin(flat, axis=-1)
-        t_single = flat[np.arange(M), idx]
-        kk, rr = np.divmod(idx, 2)
-        take = t_single < best
-        best = np.where(take, t_single, best)
         m_ix = np.arange(M)
-        facets[take, 0] = kk[take]
-        active[take, 0] = True
-        forces[take, 0] = -Fn[m_ix, kk, rr][take]
-        vel[take] = V[m_ix, kk, rr][take]
-        nrm[take] = unit(w[m_ix, kk, rr] + mu * n[kk])[take]
+        kk, rr = np.divmod(idx, 2)
+        best.single(flat[m_ix, idx], kk, -Fn[m_ix, kk, rr], V[m_ix, kk, rr],
+                    lambda take: unit(w[m_ix, kk, rr] + mu * n[kk])[take])
+        best.pairs(D, self)
+        return best.result(self.index)
 
-        # two facets: t D + N_j r_j + N_k r_k = z (Cramer)
-        if len(self.pair_j):
-            rj, rk = self.pair_r[:, 0][None], self.pair_r[:, 1][None]     # (1, P, 3)
-            t, Nj, Nk, det, cjk = pair_loads(D, rj, rk)
-            ok2 = np.isfinite(t) & (t >= -1e-12) & (Nj >= -1e-10) & (Nk >= -1e-10)
-            t2 = np.where(ok2, np.clip(t, 0.0, None), np.inf)
-            p = np.argmin(t2, axis=-1)
-            t_pair = t2[m_ix, p]
-            # prefer the one-facet mechanism at a tie (a corner end of the pair's range)
-            take = t_pair < best * (1.0 - 1e-12)
-            best = np.where(take, t_pair, best)
-            facets[take, 0] = self.pair_j[p][take]
-            facets[take, 1] = self.pair_k[p][take]
-            active[take] = True
-            forces[take, 0] = np.clip(Nj[m_ix, p], 0.0, None)[take]
-            forces[take, 1] = np.clip(Nk[m_ix, p], 0.0, None)[take]
-            vel[take] = self.pair_v[p][take]
-            m = unit(cjk[0, p]) * np.sign(det[m_ix, p])[:, None]   # outward: m.D > 0
-            nrm[take] = m[take]
-        facets = self.index[facets]
-        return Mechanisms(load=best, facets=np.where(active, facets, 0), active=active,
-                          forces=forces, velocity=vel, normal=nrm,
-                          quasi_static=np.ones(M, dtype=bool))
+
+class Best:
+    """The smallest admissible mechanism per direction while a solver scans its candidates
+    (facets numbered by position among the solver's sliding facets)."""
+
+    def __init__(self, M: int):
+        self.load = np.full(M, np.inf)
+        self.facets = np.zeros((M, 2), dtype=int)
+        self.active = np.zeros((M, 2), dtype=bool)
+        self.forces = np.zeros((M, 2))
+        self.velocity = np.zeros((M, 3))
+        self.normal = np.zeros((M, 3))
+
+    def single(self, load, facet, force, velocity, normal) -> None:
+        """One-facet candidates (M,): kept where they beat the best so far; ``normal`` maps
+        the kept rows to the limit surface's unit normals (computed for those only)."""
+        take = load < self.load
+        self.load = np.where(take, load, self.load)
+        self.facets[take, 0] = facet[take]
+        self.active[take, 0] = True
+        self.forces[take, 0] = force[take]
+        self.velocity[take] = velocity[take]
+        self.normal[take] = normal(take)
+
+    def pairs(self, D: np.ndarray, geo) -> None:
+        """Two-facet mechanisms of ``geo`` (``pair_j, pair_k, pair_v, pair_r``): ``t D + N_j r_j
+        + N_k r_k = z`` (Cramer), kept where ``t, N >= 0`` and smaller than the best; a
+        one-facet mechanism wins a tie (a corner end of the pair's range)."""
+        if len(geo.pair_j) == 0:
+            return
+        m_ix = np.arange(len(D))
+        t, Nj, Nk, det, cjk = pair_loads(D, geo.pair_r[:, 0][None], geo.pair_r[:, 1][None])
+        ok = np.isfinite(t) & (t >= -1e-12) & (Nj >= -1e-10) & (Nk >= -1e-10)
+        t2 = np.where(ok, np.clip(t, 0.0, None), np.inf)
+        p = np.argmin(t2, axis=-1)
+        t_pair = t2[m_ix, p]
+        take = t_pair < self.load * (1.0 - 1e-12)
+        self.load = np.where(take, t_pair, self.load)
+        self.facets[take, 0] = geo.pair_j[p][take]
+        self.facets[take, 1] = geo.pair_k[p][take]
+        self.active[take] = True
+        self.forces[take, 0] = np.clip(Nj[m_ix, p], 0.0, None)[take]
+        self.forces[take, 1] = np.clip(Nk[m_ix, p], 0.0, None)[take]
+        self.velocity[take] = geo.pair_v[p][take]
+        m = unit(cjk[0, p]) * np.sign(det[m_ix, p])[:, None]   # outward: m.D > 0
+        self.normal[take] = m[take]
+
+    def result(self, index: np.ndarray) -> Mechanisms:
+        """The record, facets in the user's numbering (``index``: the sliding facets)."""
+        return Mechanisms(load=self.load, facets=np.where(self.active, index[self.facets], 0),
+                          active=self.active, forces=self.forces, velocity=self.velocity,
+                          normal=self.normal, quasi_static=np.ones(len(self.load), dtype=bool))
+
+
+def static_cap(out: Mechanisms, static, d: np.ndarray) -> Mechanisms:
+    """Beyond the static maximum (the limit load of the associated twins, ``static``) no
+    equilibrium exists with any forces the local limit conditions allow: where it comes before
+    every sliding equilibrium of the local rules, the block loses equilibrium there (and
+    accelerates) instead, flagged ``quasi_static = False``."""
+    if static is None:
+        return out
+    st = static.solve(d)
+    lose = st.load < out.load * (1.0 - 1e-9)
+    return replace(out.where(lose, st), quasi_static=~lose)
 
 
 def pair_loads(D: np.ndarray, rj: np.ndarray, rk: np.ndarray):

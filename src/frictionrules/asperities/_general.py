@@ -27,7 +27,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ._coulomb import pair_loads
+from ._coulomb import Best, static_cap
 from ._hull import TOL, cross, facet_frames, unit
 from ._inverse import directions, nearest_on_segments
 from ._local import wrap
@@ -207,12 +207,7 @@ class GeneralGeometry:
         """Limit loads (``Q = 1``) in the unit directions ``d`` (M, 2)."""
         M = len(d)
         D = np.concatenate((d, np.zeros((M, 1))), axis=-1)
-        best = np.full(M, np.inf)
-        facets = np.zeros((M, 2), dtype=int)
-        active = np.zeros((M, 2), dtype=bool)
-        forces = np.zeros((M, 2))
-        vel = np.zeros((M, 3))
-        nrm = np.zeros((M, 3))
+        best = Best(M)
         m_ix = np.arange(M)
         for g, law in enumerate(self.laws):
             J = np.flatnonzero(self.law_of == g)
@@ -233,41 +228,15 @@ class GeneralGeometry:
                 ok[ok] = self.admissible(V[ok], skip=jj[ok][:, None])
             loads = np.where(ok, t, np.inf).reshape(M, -1)
             idx = np.argmin(loads, axis=-1)
-            cand = loads[m_ix, idx]
-            take = cand < best
-            if not take.any():
-                continue
             c, r = np.divmod(idx, t.shape[-1])
-            best = np.where(take, cand, best)
-            facets[take, 0] = J[c][take]
-            active[take, 0] = True
-            forces[take, 0] = N[m_ix, c, r][take]
-            vel[take] = V[m_ix, c, r][take]
-            df = law.limit_gradient(T[m_ix, c, r][take], N[m_ix, c, r][take])
-            nrm[take] = unit(self._global(df * [1.0, 1.0, -1.0], J[c][take]))
-        if len(self.pair_j):
-            t, Nj, Nk, det, cjk = pair_loads(D, self.pair_r[:, 0][None], self.pair_r[:, 1][None])
-            ok2 = np.isfinite(t) & (t >= -1e-12) & (Nj >= -1e-10) & (Nk >= -1e-10)
-            t2 = np.where(ok2, np.clip(t, 0.0, None), np.inf)
-            p = np.argmin(t2, axis=-1)
-            t_pair = t2[m_ix, p]
-            take = t_pair < best * (1.0 - 1e-12)     # a one-facet mechanism wins a tie
-            best = np.where(take, t_pair, best)
-            facets[take, 0] = self.pair_j[p][take]
-            facets[take, 1] = self.pair_k[p][take]
-            active[take] = True
-            forces[take, 0] = np.clip(Nj[m_ix, p], 0.0, None)[take]
-            forces[take, 1] = np.clip(Nk[m_ix, p], 0.0, None)[take]
-            vel[take] = self.pair_v[p][take]
-            nrm[take] = (unit(cjk[0, p]) * np.sign(det[m_ix, p])[:, None])[take]
-        out = Mechanisms(load=best, facets=np.where(active, self.index[facets], 0), active=active,
-                         forces=forces, velocity=vel, normal=nrm,
-                         quasi_static=np.ones(M, dtype=bool))
-        if self.static is not None:
-            st = self.static.solve(d)
-            lose = st.load < out.load * (1.0 - 1e-9)
-            out = replace(out.where(lose, st), quasi_static=~lose)
-        return out
+
+            def normal(take, c=c, r=r, T=T, N=N, J=J, law=law):
+                df = law.limit_gradient(T[m_ix, c, r][take], N[m_ix, c, r][take])
+                return unit(self._global(df * [1.0, 1.0, -1.0], J[c][take]))
+
+            best.single(loads[m_ix, idx], J[c], N[m_ix, c, r], V[m_ix, c, r], normal)
+        best.pairs(D, self)
+        return static_cap(best.result(self.index), self.static, d)
 
     # ---- what the protocol needs ---------------------------------------------------------
     def one_facet_terms(self, F: np.ndarray, j: np.ndarray, quasi_static: np.ndarray):
