@@ -2,13 +2,17 @@
 
 Below A0 = A(0, β0) the contact dilates, loses real contact area and softens after a peak;
 above A0 it compacts and hardens. Both curves tend to T = m N, the critical-state line.
-Run: ``python examples/contact_fig10_shear.py`` (writes contact_fig10_shear.png).
+Run: ``python examples/contact_fig10_shear.py [--out DIR]`` (saves contact_fig10_shear.png in
+DIR, by default a new temporary folder; it prints where).
 """
+
+from pathlib import Path
 
 from frictionrules import ContactModel, EllipsoidCap, drive
 
 
-def main(plot: bool = False) -> dict:
+def main(out_dir=None) -> dict:
+    """Print the peaks and the final T/N; with ``out_dir``, save the figure there."""
     m = 0.6
     model = ContactModel(EllipsoidCap(m), kn=100.0, kt=100.0)
     out = {}
@@ -18,14 +22,22 @@ def main(plot: bool = False) -> dict:
         out[N] = {"peak": float(T.max()), "final_ratio": float(T[-1] / N), "beta": float(res.beta[-1])}
         print(f"N = {N}: peak T = {T.max():.4f}, final T/N = {T[-1] / N:.4f} (m = {m}), "
               f"beta {res.beta[0]:.2f} -> {res.beta[-1]:.4f}")
-    if plot:
+    if out_dir is not None:
         import matplotlib
         matplotlib.use("Agg")
         from frictionrules.plot import cap_shear_curves
         ax = cap_shear_curves()
-        ax.figure.savefig("contact_fig10_shear.png", dpi=120)
+        path = Path(out_dir) / "contact_fig10_shear.png"
+        ax.figure.savefig(path, dpi=120)
+        print(f"wrote {path}")
     return out
 
 
 if __name__ == "__main__":
-    main(plot=True)
+    import argparse
+    import tempfile
+
+    parser = argparse.ArgumentParser(description="Fig. 10c: shear at two normal forces.")
+    parser.add_argument("--out", metavar="DIR", help="folder for the figure (default: a new "
+                        "temporary folder)")
+    main(out_dir=parser.parse_args().out or tempfile.mkdtemp(prefix="frictionrules-"))

@@ -4,15 +4,20 @@ For slip directions around the circle: the directional coefficient mu(theta) of 
 law (1.15), Huber's (1.16) and the transformed law (1.17); the angle between force and slip
 (1.14); and how far each rule is from normality in the sliding plane.
 
-Run: ``python examples/laws_orthotropic.py`` (prints a table, saves ``orthotropic.png``).
+Run: ``python examples/laws_orthotropic.py [--out DIR]`` (prints a table and saves
+``orthotropic.png`` in DIR, by default a new temporary folder; it prints where).
 """
+
+from pathlib import Path
 
 import numpy as np
 
 import frictionrules as fr
 
 
-def main(out="orthotropic.png", show=False):
+def main(out_dir=None) -> dict:
+    """Print the table; with ``out_dir``, save the figure there. Returns the largest angle
+    between slip and the normal of f per law (degrees)."""
     laws = [fr.EllipticOrthotropic(0.6, 0.3), fr.Huber(0.6, 0.3), fr.TransformedCoulomb(0.6, 0.3)]
     theta = np.deg2rad(np.arange(0, 91, 15))
     print(f"{'theta':>6} " + " ".join(f"{type(law).__name__:>20}" for law in laws))
@@ -24,14 +29,22 @@ def main(out="orthotropic.png", show=False):
         deviation[type(law).__name__] = float(np.rad2deg(np.max(
             fr.compare_rules(law, T, np.ones(theta.shape)).tangential_angle)))
     print("largest angle between slip and the normal of f (deg):", deviation)
-    if out:
+    if out_dir is not None:
         import matplotlib
         matplotlib.use("Agg")
         from frictionrules import plot
         ax = plot.directional_friction(mu_x=0.6, mu_y=0.3)
+        out = Path(out_dir) / "orthotropic.png"
         ax.figure.savefig(out, dpi=120, bbox_inches="tight")
+        print(f"wrote {out}")
     return deviation
 
 
 if __name__ == "__main__":
-    main()
+    import argparse
+    import tempfile
+
+    parser = argparse.ArgumentParser(description="Compare the orthotropic rules of §1.")
+    parser.add_argument("--out", metavar="DIR", help="folder for the figure (default: a new "
+                        "temporary folder)")
+    main(out_dir=parser.parse_args().out or tempfile.mkdtemp(prefix="frictionrules-"))

@@ -1,5 +1,7 @@
 """drive(): mixed control, paths from Python/CSV/TOML, CSV/HDF5 writers, the CLI."""
 
+import json
+
 import h5py
 import numpy as np
 import pytest
@@ -79,7 +81,9 @@ def test_csv_and_hdf5_round_trip(tmp_path):
     r.write(tmp_path / "r.h5", attrs={"model": repr(m)})
     with h5py.File(tmp_path / "r.h5") as h5:
         np.testing.assert_array_equal(h5["kappa"][:], r.kappa)
-        assert "Coulomb" in h5.attrs["model"]
+        assert "Coulomb" in h5.attrs["model"] and h5["T1"].attrs["units"] == "force"
+    r.to_csv(tmp_path / "r.txt")  # the explicit writers take any name
+    np.testing.assert_allclose(np.genfromtxt(tmp_path / "r.txt", delimiter=",", names=True)["work"], r.work)
     with pytest.raises(FrictionRulesError, match="suffix"):
         r.write(tmp_path / "r.txt")
 
@@ -107,5 +111,67 @@ def test_cli_drive_writes_table_plot_and_progress(tmp_path, capsys):
     out, err = capsys.readouterr()
     assert rc == 0 and "254 steps" in out
     assert (tmp_path / "o.csv").exists() and (tmp_path / "o.png").stat().st_size > 1000
-    assert "254/254" in err
+    # not a terminal: no progress frames, one summary line
+    assert "\r" not in err and err.count("\n") == 1 and err.startswith("drive: 254/254 steps in ")
+    assert "β" not in out  # Coulomb has no area fraction
+    lines = (tmp_path / "o.csv").read_text().splitlines()
+    assert lines[0] == ",".join(COLUMNS) and lines[1].startswith("# units: step=1, T1=force,")
+    assert any(line.startswith("# command: frictionrules drive") for line in lines)
     assert main(["drive", str(tmp_path / "missing.toml")]) == 2
+
+
+def test_cli_drive_quiet_and_cap_beta(tmp_path, capsys):
+    src = tmp_path / "d.toml"
+    src.write_text(TOML.replace('type = "Coulomb"\nmu = 0.5\ndilatant = true', 'type = "EllipsoidCap"\nm = 0.6'))
+    assert main(["drive", str(src), "--quiet"]) == 0
+    out, err = capsys.readouterr()
+    assert "β = " in out and err == ""
+
+
+def test_cli_drive_checks_outputs_before_the_run(tmp_path, capsys, monkeypatch):
+    import frictionrules.contact.driver as driver
+
+    def never(*args, **kwargs):
+        raise AssertionError("the path was driven before the output was checked")
+    monkeypatch.setattr(driver, "drive", never)
+    src = tmp_path / "d.toml"
+    src.write_text(TOML)
+    for argv, message in ((["--out", str(tmp_path / "out.xyz")], "--out = "),
+                          (["--out", str(tmp_path / "o.csv"), "--plot", str(tmp_path / "p.xyz")], "--plot = "),
+                          (["--plot"], "--plot without FILE needs --out")):
+        assert main(["drive", str(src), *argv]) == 2
+        err = capsys.readouterr().err
+        assert message in err and len(err.strip().splitlines()) == 1
+    src.write_text(TOML + '[output]\nfile = "r.txt"\n')
+    assert main(["drive", str(src)]) == 2
+    assert "[output] file = " in capsys.readouterr().err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["d.toml"]
+
+
+def test_cli_drive_plot_goes_beside_the_table_not_the_toml(tmp_path, capsys, monkeypatch):
+    (tmp_path / "inputs").mkdir()
+    (tmp_path / "results").mkdir()
+    src = tmp_path / "inputs" / "d.toml"
+    src.write_text(TOML)
+    monkeypatch.chdir(tmp_path)
+    assert main(["drive", str(src), "--out", "results/s.json", "--plot", "--quiet"]) == 0
+    assert sorted(p.name for p in (tmp_path / "results").iterdir()) == ["s.json", "s.png"]
+    assert [p.name for p in (tmp_path / "inputs").iterdir()] == ["d.toml"]
+    doc = json.loads((tmp_path / "results" / "s.json").read_text())
+    assert doc["units"]["work"] == "force*length" and len(doc["columns"]["T1"]) == 25
+
+
+@pytest.mark.parametrize("toml, message", [
+    ("model = 3\n[[segment]]\nN = 1.0\n", "[model] = 3 violates: must be a table"),
+    ("[model]\nkn = 1.0\nkt = 1.0\nlaw = 2\n[[segment]]\nN = 1.0\n", "[model.law] = 2"),
+    (TOML + "[extra]\na = 1\n", "unknown tables ['extra']"),
+    (TOML.replace("[[segment]]\nN = 1.0", "[[segment]]\nN = \"x\""), "segment 0: N"),
+    (TOML + "[output]\nfile = 3\n", "[output] file = 3"),
+    ("segment = [1, 2]\n" + TOML.split("[[segment]]")[0], "segment 0 = 1 violates"),
+])
+def test_malformed_drive_files_are_one_line(toml, message, tmp_path, capsys):
+    src = tmp_path / "d.toml"
+    src.write_text(toml)
+    assert main(["drive", str(src)]) == 2
+    err = capsys.readouterr().err
+    assert message in err and len(err.strip().splitlines()) == 1

@@ -15,6 +15,17 @@ ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "examples"
 
 
+@pytest.fixture(autouse=True)
+def empty_working_folder(tmp_path, monkeypatch):
+    """Every example runs in an empty working folder and leaves it empty: outputs go only
+    where they are asked to go."""
+    cwd = tmp_path / "cwd"
+    cwd.mkdir()
+    monkeypatch.chdir(cwd)
+    yield
+    assert not list(cwd.iterdir()), "an example wrote into the working folder"
+
+
 def load(name):
     """Import ``examples/<name>.py`` as a module (its ``main`` is called by the tests)."""
     spec = importlib.util.spec_from_file_location(name, EXAMPLES / f"{name}.py")
@@ -26,10 +37,28 @@ def load(name):
 # ---- laws and README -----------------------------------------------------------------
 def test_example_orthotropic(tmp_path):
     mod = runpy.run_path(str(ROOT / "examples" / "laws_orthotropic.py"))
-    deviation = mod["main"](out=str(tmp_path / "o.png"))
+    deviation = mod["main"](out_dir=tmp_path)
     assert deviation["EllipticOrthotropic"] < 1e-9  # normality in the sliding plane
     assert deviation["Huber"] > 5 and deviation["TransformedCoulomb"] > 5
-    assert (tmp_path / "o.png").exists()
+    assert (tmp_path / "orthotropic.png").stat().st_size > 1000
+
+
+def test_example_script_writes_figures_where_asked(tmp_path, monkeypatch, capsys):
+    """Run as a script: the figure goes to --out DIR, or else to a new temporary folder
+    (contact_fig10_shear.py has the same command line)."""
+    script, figure = "laws_orthotropic", "orthotropic.png"
+    out = tmp_path / "figs"
+    out.mkdir()
+    monkeypatch.setattr("sys.argv", [script, "--out", str(out)])
+    runpy.run_path(str(EXAMPLES / f"{script}.py"), run_name="__main__")
+    assert (out / figure).stat().st_size > 1000
+    scratch = tmp_path / "tmp"
+    scratch.mkdir()
+    monkeypatch.setattr("tempfile.tempdir", str(scratch))
+    monkeypatch.setattr("sys.argv", [script])
+    runpy.run_path(str(EXAMPLES / f"{script}.py"), run_name="__main__")
+    written = list(scratch.glob(f"frictionrules-*/{figure}"))
+    assert len(written) == 1 and f"wrote {written[0]}" in capsys.readouterr().out
 
 
 def test_readme_python_example_runs(capsys):
@@ -92,8 +121,9 @@ def test_sphere_pocket_example():
 
 
 # ---- elastic-plastic contact (§4) ----------------------------------------------------
-def test_fig10_shear_example():
-    out = load("contact_fig10_shear").main()
+def test_fig10_shear_example(tmp_path):
+    out = load("contact_fig10_shear").main(out_dir=tmp_path)
+    assert (tmp_path / "contact_fig10_shear.png").stat().st_size > 1000
     assert out[0.4]["peak"] == pytest.approx(0.4803, abs=1e-3)
     assert out[0.4]["final_ratio"] == pytest.approx(0.6, rel=0.01)
     assert out[1.6]["final_ratio"] == pytest.approx(0.6, rel=0.01)

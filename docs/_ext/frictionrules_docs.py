@@ -10,7 +10,8 @@ At ``builder-inited`` it writes (only files whose text changed, so rebuilds stay
 * ``gallery/<example>.md``: one page per script of ``examples/``: its docstring, its source,
   what it prints and the figures it makes, from running it in an empty folder (in parallel,
   with a time limit). An example that needs data not present (the FCLIB problems beside the
-  repository) says so on its page.
+  repository) says so on its page. ``FRICTIONRULES_DOCS_EXAMPLES=0`` builds the pages without
+  running the examples (the test suite does, since ``tests/test_examples.py`` runs them).
 
 Both folders are generated: they are git-ignored and never edited by hand.
 """
@@ -79,21 +80,16 @@ def _directive(obj) -> str:
     return "autodata"
 
 
-def _api_page(sub: str, top_names: list[str]) -> str:
-    import frictionrules
-    module = importlib.import_module(f"frictionrules.{sub}")
+def _api_page(sub: str, entries: list[tuple[str, str, object]]) -> str:
+    """The page of ``frictionrules.<sub>``: its docstring, then ``(module, name, object)``."""
     title = f"``frictionrules.{sub}``"
     lines = [title, "=" * len(title), "", f".. automodule:: frictionrules.{sub}", "   :no-members:", ""]
-    if top_names:
-        lines += [".. currentmodule:: frictionrules", ""]
-        for name in top_names:
-            lines += _entry(name, getattr(frictionrules, name))
-    extra = [n for n in getattr(module, "__all__", ()) if n not in top_names and
-             getattr(frictionrules, n, None) is not getattr(module, n)]
-    if extra:
-        lines += [f".. currentmodule:: frictionrules.{sub}", ""]
-        for name in extra:
-            lines += _entry(name, getattr(module, name))
+    current = None
+    for module, name, obj in entries:
+        if module != current:
+            lines += [f".. currentmodule:: {module}", ""]
+            current = module
+        lines += _entry(name, obj)
     return "\n".join(lines) + "\n"
 
 
@@ -124,14 +120,24 @@ def _cli_page() -> str:
 
 
 def write_api(app) -> None:
+    """Each public object once, on the page of the subpackage that defines it, under its
+    shortest public name: ``frictionrules.NAME``, else ``frictionrules.<sub>.NAME``."""
     import frictionrules
     subs = _subpackages()
-    by_sub: dict[str, list[str]] = {s: [] for s in subs}
-    for name in frictionrules.__all__:
-        home = _home(getattr(frictionrules, name), name)
+    by_sub: dict[str, list[tuple[str, str, object]]] = {s: [] for s in subs}
+    seen: set[int] = set()
+    public = [("frictionrules", n, getattr(frictionrules, n)) for n in frictionrules.__all__]
+    for sub in subs:
+        module = importlib.import_module(f"frictionrules.{sub}")
+        public += [(module.__name__, n, getattr(module, n)) for n in getattr(module, "__all__", ())]
+    for module, name, obj in public:
+        if id(obj) in seen:
+            continue
+        seen.add(id(obj))
+        home = _home(obj, name)
         if home in by_sub:
-            by_sub[home].append(name)
-        else:
+            by_sub[home].append((module, name, obj))
+        elif module == "frictionrules":
             logger.warning(f"frictionrules.{name} has no API page (its module is {home!r})")
     api = DOCS / "api"
     for sub in subs:
@@ -149,7 +155,9 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 from pathlib import Path
-runpy.run_path(sys.argv[1], run_name="__main__")
+script = sys.argv[1]
+sys.argv = [script]  # as `python script.py`: the script sees no arguments
+runpy.run_path(script, run_name="__main__")
 if not any(Path(".").rglob("*.png")):  # the figures the script drew but did not save
     for i, num in enumerate(plt.get_fignums()):
         plt.figure(num).savefig(f"figure_{i}.png", dpi=100, bbox_inches="tight")
@@ -192,6 +200,9 @@ def _example_page(script: Path, status: str, output: str, figures: list[str]) ->
         parts += ["## Output", "", "```text", output.rstrip() or "(prints nothing)", "```", ""]
         for fig in figures:
             parts += [f"![{script.stem}]({fig})", ""]
+    elif status == "not run":
+        parts += ["## Output", "", "Not run in this build (`FRICTIONRULES_DOCS_EXAMPLES=0`); "
+                  "`tests/test_examples.py` runs it.", ""]
     elif status == "skipped":
         parts += ["## Output", "", "Not run here: it reads the FCLIB problem files, which were not "
                   "found beside the repository (`../shared/fclib`).", ""]
@@ -203,8 +214,9 @@ def write_gallery(app) -> None:
     images = gallery / "figures"
     shutil.rmtree(images, ignore_errors=True)
     scripts = sorted(EXAMPLES.glob("*.py"))
-    todo = [s for s in scripts if not _needs_missing_data(s)]
-    results = {s: ("skipped", "", [], None) for s in scripts if s not in todo}
+    run = os.environ.get("FRICTIONRULES_DOCS_EXAMPLES", "1") != "0"
+    todo = [s for s in scripts if run and not _needs_missing_data(s)]
+    results = {s: ("skipped" if run else "not run", "", [], None) for s in scripts if s not in todo}
     workers = min(2, os.cpu_count() or 1)
     logger.info(f"running {len(todo)} examples for the gallery ...")
     with concurrent.futures.ThreadPoolExecutor(workers) as pool:
@@ -260,7 +272,18 @@ def escape_absolute_values(app, what, name, obj, options, lines) -> None:
         lines[i] = "".join(parts)
 
 
+def keep_literal_block_after_summary(app, what, name, obj, options, lines) -> None:
+    """numpydoc dedents the text after the summary paragraph, so a literal block that follows a
+    summary ending in ``::`` would lose its indentation; end the summary with ``:`` and give the
+    block its own ``::`` paragraph (rendered the same). Runs before numpydoc."""
+    end = next((i for i, line in enumerate(lines) if not line.strip()), len(lines))
+    if 0 < end < len(lines) and lines[end - 1].rstrip().endswith("::"):
+        lines[end - 1] = lines[end - 1].rstrip()[:-1]
+        lines[end:end] = ["", "::"]
+
+
 def setup(app):
+    app.connect("autodoc-process-docstring", keep_literal_block_after_summary, priority=100)
     app.connect("autodoc-process-docstring", escape_absolute_values)
     app.connect("builder-inited", write_api)
     app.connect("builder-inited", write_gallery)

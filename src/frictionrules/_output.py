@@ -27,6 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ._optional import require
 from .errors import FrictionRulesError
 
 #: Suffixes of the table writers (:func:`write_table`).
@@ -264,7 +265,7 @@ def write_table(path, columns: Mapping, *, units: Mapping, metadata: Mapping | N
 
 
 def _table_hdf5(path: Path, cols: dict, units: Mapping, metadata: Mapping) -> Path:
-    import h5py
+    h5py = require("h5py", extra="hdf5")
     with atomic_path(path) as tmp, h5py.File(tmp, "w") as h5:
         for name, col in cols.items():
             data = col.astype(h5py.string_dtype()) if col.dtype.kind in "OUS" else col

@@ -143,6 +143,7 @@ class Progress:
 
     def __enter__(self) -> "Progress":
         self.start = time.monotonic()
+        self._draw(force=True)  # on a terminal, at once: the first step may take a while
         return self
 
     def __exit__(self, exc_type, exc, tb) -> None:

@@ -19,5 +19,5 @@ def load_toml(path) -> dict:
     with open(path, "rb") as fh:
         try:
             return tomllib.load(fh)
-        except tomllib.TOMLDecodeError as exc:
+        except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
             raise FrictionRulesError(f"{path}: not valid TOML ({exc})") from exc

@@ -4,12 +4,19 @@ The CLI is thin: each subcommand module parses its options into library objects,
 library and prints or writes. A subcommand module provides ``register(subparsers)``, which adds
 its parser and sets ``run=function(args) -> int``. Library imports happen inside ``run`` so
 that ``frictionrules --help`` stays fast.
+
+Exit codes: 0 success; 2 bad input (a usage error, a :class:`FrictionRulesError`, a missing or
+unreadable file), one line on stderr naming the argument, the value and the constraint; 1 an
+internal error (a bug: one line naming it; ``--debug`` or ``FRICTIONRULES_DEBUG=1`` shows the
+traceback); 130 interrupted.
 """
 
 from __future__ import annotations
 
 import argparse
 import importlib
+import os
+import re
 import sys
 
 from ..errors import FrictionRulesError
@@ -17,12 +24,23 @@ from ..errors import FrictionRulesError
 #: Subcommand modules of this package, in the order ``--help`` lists them.
 SUBCOMMANDS = ("paper", "law", "solve", "configuration", "drive", "asperity")
 
+#: Arguments that are values, not options, although they start with "-": numbers such as
+#: ``-0.5``, ``-1e-6``, ``-inf`` and lists that start with one, ``-0.5,0,0.866;0.5,0,0.866``.
+NEGATIVE_NUMBER = re.compile(
+    r"^-(?:(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?|inf(?:inity)?|nan)(?:[,;:\s].*)?$",
+    re.IGNORECASE | re.DOTALL)
+
 
 class _Parser(argparse.ArgumentParser):
-    """Argument parser whose usage errors are one line on stderr with exit code 2."""
+    """Argument parser whose usage errors are one line on stderr with exit code 2, and which
+    takes negative numbers (and lists that start with one) as values."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = NEGATIVE_NUMBER
 
     def error(self, message):
-        self.exit(2, f"{self.prog}: error: {message}\n")
+        self.exit(2, f"{self.prog}: error: {' '.join(str(message).split())}\n")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -32,32 +50,68 @@ def build_parser() -> argparse.ArgumentParser:
                     "contact integration and multi-contact solvers.")
     from .. import __version__
     parser.add_argument("--version", action="version", version=f"frictionrules {__version__}")
+    parser.add_argument("--debug", action="store_true",
+                        help="show the traceback of an internal error (or FRICTIONRULES_DEBUG=1)")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     for name in SUBCOMMANDS:
         importlib.import_module(f".{name}", __name__).register(sub)
+    for p in sub.choices.values():  # --debug after the command too
+        p.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
+                       help="show the traceback of an internal error")
     return parser
+
+
+def _one_line(exc: BaseException) -> str:
+    text = " ".join(str(exc).split())
+    return text or type(exc).__name__
 
 
 def main(argv=None) -> int:
     """Entry point of the ``frictionrules`` console script; returns the exit code.
 
     Bad input (a :class:`FrictionRulesError`, a missing or unreadable file) and a missing
-    optional package exit with code 2 and a one-line message on stderr.
+    optional package exit with code 2 and a one-line message on stderr; any other exception is
+    an internal error, exit code 1, one line naming it (the traceback with ``--debug`` or
+    ``FRICTIONRULES_DEBUG=1``).
     """
+    from .._output import command_line
+
+    argv = [str(a) for a in (sys.argv[1:] if argv is None else argv)]
     parser = build_parser()
-    args = parser.parse_args(argv)
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # usage error (2, one line already printed), --help, --version (0)
+        return 0 if exc.code is None else exc.code if isinstance(exc.code, int) else 2
+    args.command_line = command_line(argv)
+    debug = args.debug or os.environ.get("FRICTIONRULES_DEBUG", "") not in ("", "0")
     try:
         return int(args.run(args) or 0)
     except ModuleNotFoundError as exc:  # an optional package: name the extra that installs it
         from .._optional import missing_module_message
         if (msg := missing_module_message(exc)) is None:
-            raise
+            return _internal_error(args.command, exc, debug)
         print(f"frictionrules {args.command}: error: {msg}", file=sys.stderr)
         return 2
     except (FrictionRulesError, OSError) as exc:
-        msg = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-        print(f"frictionrules {args.command}: error: {msg}", file=sys.stderr)
+        print(f"frictionrules {args.command}: error: {_one_line(exc)}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:
+        print(f"frictionrules {args.command}: interrupted", file=sys.stderr)
+        return 130
+    except Exception as exc:
+        return _internal_error(args.command, exc, debug)
+
+
+def _internal_error(command: str, exc: Exception, debug: bool) -> int:
+    """One line naming an unexpected exception (a bug), exit code 1; re-raised with ``debug``."""
+    if debug:
+        raise exc
+    text = _one_line(exc)
+    text = text if len(text) <= 300 else text[:297] + "..."
+    print(f"frictionrules {command}: internal error: {type(exc).__name__}: {text} (a bug: please "
+          "report it with the traceback that FRICTIONRULES_DEBUG=1 or --debug shows)",
+          file=sys.stderr)
+    return 1
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -1,9 +1,9 @@
 """``frictionrules configuration``: a grain sliding over a layer (§3), path following or the
-pocket peak force, from options or a TOML file; CSV/JSON table and figure out."""
+pocket peak force, from options or a TOML file; CSV/JSON/HDF5 table and figure out."""
 
 from __future__ import annotations
 
-import json
+from ._common import MAX_COUNT, add_quiet, finite_float, positive_int
 
 #: option -> type; a TOML file may give the same keys (the command line wins)
 _KEYS = {"grain": str, "packing": str, "diameter": float, "mu": float, "Q": float,
@@ -11,6 +11,12 @@ _KEYS = {"grain": str, "packing": str, "diameter": float, "mu": float, "Q": floa
          "path": list, "polar": int, "deg": bool}
 _DEFAULTS = {"grain": "cylinder", "packing": "single", "diameter": 1.0, "mu": 0.3, "Q": 1.0,
              "method": "exact", "scheme": "euler", "direction": 0.0, "steps": 201, "deg": False}
+_TABLES = (".csv", ".json", ".h5", ".hdf5")
+_FIGURES = (".png", ".svg", ".pdf")
+#: units of the path table's columns (angles added by run: rad or deg)
+_PATH_UNITS = {"distance": "length", "ux": "length", "uy": "length", "uz": "length",
+               "Tx": "force", "Ty": "force", "T": "force", "N1": "force", "N2": "force",
+               "contacts": "1"}
 
 
 def register(sub) -> None:
@@ -20,7 +26,8 @@ def register(sub) -> None:
                     "(§3, Figs. 8-9). Path mode: the force that keeps it sliding along a straight "
                     "trajectory from its pocket (or a given polyline), the normal forces, the "
                     "dilatancy and the contacts that open or close. Polar mode (--polar N): the "
-                    "peak force to leave the pocket against the force direction.",
+                    "peak force to leave the pocket against the force direction; directions in "
+                    "which the pocket jams (no mechanism starts) are marked jammed in the table.",
         epilog="example: frictionrules configuration --grain sphere --packing hexagonal --mu 0.3 "
                "--direction 30 --deg --length 0.8 --out path.csv --figure path.png")
     p.add_argument("--config", metavar="FILE.toml", help="read the options from a TOML file "
@@ -28,22 +35,43 @@ def register(sub) -> None:
     p.add_argument("--grain", choices=("cylinder", "sphere"), help="default: cylinder")
     p.add_argument("--packing", choices=("single", "square", "hexagonal"),
                    help="sphere layer (default: single)")
-    p.add_argument("--diameter", type=float, help="grain diameter d (default 1)")
-    p.add_argument("--mu", type=float, help="local friction coefficient (default 0.3)")
-    p.add_argument("--Q", "-Q", dest="Q", type=float, help="vertical load (default 1)")
+    p.add_argument("--diameter", type=finite_float, help="grain diameter d (default 1)")
+    p.add_argument("--mu", type=finite_float, help="local friction coefficient (default 0.3)")
+    p.add_argument("--Q", "-Q", dest="Q", type=finite_float, help="vertical load (default 1)")
     p.add_argument("--method", choices=("exact", "incremental"), help="default: exact")
     p.add_argument("--scheme", choices=("euler", "heun"), help="incremental scheme (default euler)")
-    p.add_argument("--direction", type=float, help="direction of the straight path (radians, "
-                   "degrees with --deg; default 0)")
-    p.add_argument("--length", type=float, help="length of the straight path (default d)")
-    p.add_argument("--steps", type=int, help="number of points on the straight path (default 201)")
+    p.add_argument("--direction", type=finite_float, help="direction of the straight path "
+                   "(radians, degrees with --deg; default 0)")
+    p.add_argument("--length", type=finite_float, help="length of the straight path (default d)")
+    p.add_argument("--steps", type=positive_int, help="number of points on the straight path "
+                   "(default 201)")
     p.add_argument("--path", metavar="X,Y;X,Y;...", help="polyline of horizontal positions instead "
                    "of a straight path")
-    p.add_argument("--polar", type=int, metavar="N", help="pocket peak force in N force directions")
-    p.add_argument("--deg", action="store_true", default=None, help="angles in degrees")
-    p.add_argument("--out", metavar="FILE.csv|FILE.json", help="write the table (CSV or JSON)")
-    p.add_argument("--figure", metavar="FILE.png", help="write a figure (png, svg or pdf)")
+    p.add_argument("--polar", type=positive_int, metavar="N",
+                   help="pocket peak force in N >= 1 force directions")
+    p.add_argument("--deg", action="store_true", default=None,
+                   help="angles in degrees (input and output)")
+    p.add_argument("--out", metavar="FILE", help="write the table (.csv, .json, .h5)")
+    p.add_argument("--figure", metavar="FILE", help="write a figure (.png, .svg or .pdf)")
+    add_quiet(p)
     p.set_defaults(run=run)
+
+
+def _toml_value(source: str, key: str, value):
+    import math
+
+    from ..errors import FrictionRulesError
+    kind = _KEYS[key]
+    ok = isinstance(value, kind) and not (kind is int and isinstance(value, bool))
+    if kind is float and isinstance(value, int) and not isinstance(value, bool):
+        ok, value = True, float(value)
+    if not ok:
+        raise FrictionRulesError(f"{source}: {key} = {value!r} violates: must be {kind.__name__}")
+    if kind is float and not math.isfinite(value):
+        raise FrictionRulesError(f"{source}: {key} = {value!r} violates: must be finite")
+    if key in ("polar", "steps") and not 1 <= value <= MAX_COUNT:
+        raise FrictionRulesError(f"{source}: {key} = {value!r} violates 1 <= {key} <= {MAX_COUNT}")
+    return value
 
 
 def options(args) -> dict:
@@ -58,12 +86,9 @@ def options(args) -> dict:
         if unknown:
             raise FrictionRulesError(f"{args.config}: unknown keys {unknown}; known: {list(_KEYS)}")
         for key, value in data.items():
-            kind = _KEYS[key]
-            ok = isinstance(value, kind) or (kind is float and isinstance(value, int)
-                                             and not isinstance(value, bool))
-            if not ok:
-                raise FrictionRulesError(f"{args.config}: {key} = {value!r} must be {kind.__name__}")
-            opts[key] = value
+            opts[key] = _toml_value(args.config, key, value)
+        if "path" in data:
+            opts["path"] = _polyline(data["path"], f"{args.config}: path")
     for key in _KEYS:
         value = getattr(args, key, None)
         if value is not None:
@@ -71,12 +96,29 @@ def options(args) -> dict:
     return opts
 
 
-def _parse_path(text: str) -> list:
+def _polyline(points, name: str):
+    """A polyline ``[[x, y], ...]`` of finite numbers as an array (n, 2)."""
+    import numpy as np
+
     from ..errors import FrictionRulesError
     try:
-        return [[float(v) for v in pt.split(",")] for pt in text.split(";") if pt.strip()]
-    except ValueError as exc:
-        raise FrictionRulesError(f"--path {text!r} is not 'x,y;x,y;...'") from exc
+        arr = np.array(points, dtype=float)
+    except (TypeError, ValueError):
+        arr = None
+    if arr is None or arr.ndim != 2 or arr.shape[1] != 2 or len(arr) < 2 or not np.isfinite(arr).all():
+        shown = repr(points) if len(repr(points)) < 60 else repr(points)[:57] + "..."
+        raise FrictionRulesError(f"{name} = {shown} violates: at least two points [x, y] of "
+                                 "finite numbers")
+    return arr
+
+
+def _parse_path(text: str):
+    from ..errors import FrictionRulesError
+    try:
+        points = [[float(v) for v in pt.split(",")] for pt in text.split(";") if pt.strip()]
+    except ValueError:
+        raise FrictionRulesError(f"--path {text!r} violates the form 'x,y;x,y;...'") from None
+    return _polyline(points, "--path")
 
 
 def build_model(opts):
@@ -93,70 +135,119 @@ def build_model(opts):
     raise FrictionRulesError(f"grain = {opts['grain']!r} violates grain in ('cylinder', 'sphere')")
 
 
-def _write_table(path, columns: dict) -> None:
-    from .._atomic import write_text
+def polar_sweep(model, directions, progress=None) -> dict:
+    """Pocket peak force in each direction; a direction in which the pocket jams (no mechanism
+    starts) is flagged ``jammed`` with an infinite peak instead of stopping the sweep.
 
-    names = list(columns)
-    if str(path).lower().endswith(".json"):
-        write_text(path, json.dumps({k: [v.item() if hasattr(v, "item") else v
-                                         for v in columns[k]] for k in names}, indent=1) + "\n")
-        return
-    rows = [",".join(names)]
-    for i in range(len(columns[names[0]])):
-        rows.append(",".join(repr(float(columns[k][i])) for k in names))
-    write_text(path, "\n".join(rows) + "\n")
+    Returns the table columns ``direction`` (radians), ``peak``, ``Tx``, ``Ty``, ``contacts``,
+    ``jammed``.
+    """
+    import numpy as np
+
+    from ..errors import FrictionRulesError
+    n = len(directions)
+    peak, start = np.full(n, np.inf), np.full((n, 2), np.nan)
+    count, jammed = np.zeros(n, dtype=int), np.zeros(n, dtype=bool)
+    for i, theta in enumerate(directions):
+        try:
+            res = model.breakout_force([theta])
+        except FrictionRulesError:  # the pocket jams in this direction
+            jammed[i] = True
+        else:
+            peak[i], start[i], count[i] = res.peak[0], res.start[0], res.count[0]
+        if progress is not None:
+            progress(i + 1, n)
+    return {"direction": np.asarray(directions, dtype=float), "peak": peak, "Tx": start[:, 0],
+            "Ty": start[:, 1], "contacts": count, "jammed": jammed}
 
 
 def run(args) -> int:
     import numpy as np
 
-    from .._atomic import atomic_path
+    from .._output import check_output, write_table
+    from . import _common
 
+    out = check_output(args.out, _TABLES, name="--out") if args.out else None
+    figure = check_output(args.figure, _FIGURES, name="--figure") if args.figure else None
     opts = options(args)
     model = build_model(opts)
     scale = np.pi / 180.0 if opts["deg"] else 1.0
-    if opts.get("polar"):
-        th = np.linspace(0.0, 2 * np.pi, int(opts["polar"]), endpoint=False)
-        res = model.breakout_force(th)
-        columns = {"direction": th / scale, "peak": res.peak, "Tx": res.start[:, 0],
-                   "Ty": res.start[:, 1], "contacts": res.count}
-        lo, hi = int(np.argmin(res.peak)), int(np.argmax(res.peak))
-        print(f"pocket peak force |T|/Q: min {res.peak[lo] / model.Q:.4f} at "
-              f"{th[lo] / scale:.4g} (over {res.count[lo]}), max {res.peak[hi] / model.Q:.4f} at "
-              f"{th[hi] / scale:.4g} (over {res.count[hi]})")
+    angle = "deg" if opts["deg"] else "rad"
+    polar = opts.get("polar")
+    if polar:
+        th = np.linspace(0.0, 2 * np.pi, int(polar), endpoint=False)
+        with _common.progress(args, "configuration --polar", len(th), "directions") as bar:
+            columns = polar_sweep(model, th, bar)
+        columns["direction"] = th / scale
+        units = {"direction": angle, "peak": "force", "Tx": "force", "Ty": "force",
+                 "contacts": "1", "jammed": "1"}
+        _print_polar(columns, model.Q, angle)
     else:
         if opts.get("path") is not None:
             path = np.asarray(opts["path"], dtype=float)
         else:
             path = model.straight_path(opts["direction"] * scale, opts.get("length"), opts["steps"])
-        res = model.displacement_path(path, opts["method"], opts["scheme"])
+        with _common.progress(args, "configuration") as bar:
+            bar.phase(f"following the path ({len(path)} points, {opts['method']})")
+            res = model.displacement_path(path, opts["method"], opts["scheme"])
         columns = res.table()
+        columns["alpha"], columns["psi"] = columns["alpha"] / scale, columns["psi"] / scale
+        units = {**_PATH_UNITS, "alpha": angle, "psi": angle}
         T = res.force_magnitude
         print(f"{type(model).__name__}: {len(path)} points, method {res.method}")
         print(f"|T|/Q: start {T[0] / model.Q:.4f}, peak {T.max() / model.Q:.4f}, "
               f"end {T[-1] / model.Q:.4f}; dilatancy {res.height[-1] - res.height[0]:+.4g}")
         for i, what, cid in res.events():
             print(f"  point {i}: contact {cid} {'opens' if what == 'open' else 'closes'}")
-    if args.out:
-        _write_table(args.out, columns)
-        print(f"wrote {args.out}")
-    if args.figure:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-
-        from ..plot.configuration import limit_evolution
-        if opts.get("polar"):
-            fig, ax = plt.subplots(figsize=(6, 6), subplot_kw={"projection": "polar"})
-            ax.plot(np.append(th, th[0]), np.append(res.peak, res.peak[0]) / model.Q)
-            ax.set_title("peak |T|/Q against the force direction")
-        else:
-            ax = limit_evolution(model, path)
-            fig = ax.figure
-        fmt = str(args.figure).rsplit(".", 1)[-1].lower()
-        with atomic_path(args.figure) as tmp:
-            fig.savefig(tmp, format=fmt if fmt in ("png", "svg", "pdf") else "png", dpi=150,
-                        bbox_inches="tight")
-        plt.close(fig)
-        print(f"wrote {args.figure}")
+    meta = _common.metadata(args, model=model, parameters=opts)
+    if out is not None:
+        write_table(out, columns, units=units, metadata=meta)
+        print(f"wrote {out}")
+    if figure is not None:
+        _figure(model, columns if polar else path, figure, meta, polar=bool(polar))
+        print(f"wrote {figure}")
     return 0
+
+
+def _print_polar(columns, Q, angle) -> None:
+    import numpy as np
+    ok = ~columns["jammed"]
+    th, peak, count = columns["direction"], columns["peak"], columns["contacts"]
+    if ok.any():
+        idx = np.flatnonzero(ok)
+        lo, hi = idx[np.argmin(peak[ok])], idx[np.argmax(peak[ok])]
+        print(f"pocket peak force |T|/Q: min {peak[lo] / Q:.4f} at {th[lo]:.4g} {angle} (over "
+              f"{count[lo]}), max {peak[hi] / Q:.4f} at {th[hi]:.4g} {angle} (over {count[hi]})")
+    if not ok.all():
+        jam = th[~ok]
+        print(f"jammed (no mechanism starts) in {len(jam)} of {len(th)} directions: "
+              + ", ".join(f"{t:.4g}" for t in jam[:12]) + (" ..." if len(jam) > 12 else "")
+              + f" {angle}")
+
+
+def _figure(model, data, path, meta, *, polar: bool) -> None:
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    from .._output import write_figure
+    if polar:
+        th = np.linspace(0.0, 2 * np.pi, len(data["peak"]), endpoint=False)
+        r = np.where(data["jammed"], np.nan, data["peak"] / model.Q)
+        fig, ax = plt.subplots(figsize=(6, 6), subplot_kw={"projection": "polar"})
+        ax.plot(np.append(th, th[0]), np.append(r, r[0]), label="peak |T|/Q")
+        if data["jammed"].any():
+            edge = np.nanmax(r) * 1.05 if np.isfinite(r).any() else 1.0
+            ax.plot(th[data["jammed"]], np.full(int(data["jammed"].sum()), edge), "x",
+                    color="tab:red", label="jammed")
+        if np.isfinite(r).any():  # radial tick labels along the direction of the least peak
+            ax.set_rlabel_position(float(np.rad2deg(th[np.nanargmin(r)])))
+        ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=8)
+        ax.set_title("peak |T|/Q against the force direction")
+    else:
+        from ..plot.configuration import limit_evolution
+        ax = limit_evolution(model, data)
+        fig = ax.figure
+    write_figure(fig, path, metadata=meta, bbox_inches="tight")
+    plt.close(fig)

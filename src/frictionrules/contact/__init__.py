@@ -1,7 +1,8 @@
 """Elastic-plastic contact with hardening and softening (paper §4): the model, the
 ellipsoidal cap (4.9), implicit and explicit integration, and a single-contact driver."""
 
-from ..laws import AreaGrowth, AreaHardening, EllipsoidCap, HardenedLaw, SlipHardening
+# the laws of §4 live in frictionrules.laws; importable from here too
+from ..laws import AreaGrowth, AreaHardening, EllipsoidCap, HardenedLaw, SlipHardening  # noqa: F401
 from .driver import DriveResult, Path, drive, read_path
 from .model import ContactModel
 from .state import ContactState, UpdateResult
@@ -10,11 +11,6 @@ __all__ = [
     "ContactModel",
     "ContactState",
     "UpdateResult",
-    "SlipHardening",
-    "HardenedLaw",
-    "EllipsoidCap",
-    "AreaHardening",
-    "AreaGrowth",
     "drive",
     "DriveResult",
     "Path",

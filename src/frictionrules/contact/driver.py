@@ -10,13 +10,11 @@ displacements are found by Newton's method on the consistent tangent.
 from __future__ import annotations
 
 import csv
-import io
 from dataclasses import dataclass, field
 from pathlib import Path as _FilePath
 
 import numpy as np
 
-from .._atomic import atomic_path, write_text
 from ..errors import FrictionRulesError, check_finite
 from .model import ContactModel
 from .state import OPEN, ContactState
@@ -114,6 +112,14 @@ class Path:
 
 #: Columns of a drive result table, in order.
 COLUMNS = ("step", "T1", "T2", "N", "dt1", "dt2", "dn", "dt1p", "dt2p", "dnp", "kappa", "beta", "work", "status")
+#: Unit of each column (docs/conventions.md): forces, displacements, plastic work.
+UNITS = {"step": "1", "T1": "force", "T2": "force", "N": "force", "dt1": "length", "dt2": "length",
+         "dn": "length", "dt1p": "length", "dt2p": "length", "dnp": "length", "kappa": "length",
+         "beta": "1", "work": "force*length", "status": "1"}
+#: Most steps a drive file may ask for (a bound, so that a mistyped number is an error).
+MAX_FILE_STEPS = 1_000_000
+#: Suffixes :meth:`DriveResult.write` accepts.
+SUFFIXES = (".csv", ".json", ".h5", ".hdf5")
 
 
 @dataclass(frozen=True, eq=False)
@@ -147,35 +153,27 @@ class DriveResult:
         out.update(kappa=self.kappa, beta=self.beta, work=self.work, status=self.status)
         return {name: out[name] for name in COLUMNS}
 
-    def to_csv(self, path) -> _FilePath:
-        """Write the table as CSV (atomically)."""
-        cols = self.columns()
-        buf = io.StringIO()
-        w = csv.writer(buf, lineterminator="\n")
-        w.writerow(COLUMNS)
-        for row in zip(*cols.values()):
-            w.writerow([int(x) if k in ("step", "status") else repr(float(x)) for k, x in zip(COLUMNS, row)])
-        return write_text(path, buf.getvalue())
+    def to_csv(self, path, attrs=None) -> _FilePath:
+        """Write the table as CSV (atomically): column names, ``# units`` and ``attrs`` comment
+        lines, then the rows (``numpy.genfromtxt(path, delimiter=",", names=True)`` reads it)."""
+        from .._output import write_table
+        return write_table(path, self.columns(), units=UNITS, metadata=attrs, format="csv")
 
     def to_hdf5(self, path, attrs=None) -> _FilePath:
-        """Write the table as HDF5, one dataset per column (atomically); ``attrs`` go on the root."""
-        import h5py
-        path = _FilePath(path)
-        with atomic_path(path) as tmp, h5py.File(tmp, "w") as h5:
-            for name, col in self.columns().items():
-                h5.create_dataset(name, data=col)
-            for key, value in (attrs or {}).items():
-                h5.attrs[key] = value
-        return path
+        """Write the table as HDF5, one dataset per column with its ``units`` attribute
+        (atomically); ``attrs`` go on the root."""
+        from .._output import write_table
+        return write_table(path, self.columns(), units=UNITS, metadata=attrs, format="hdf5")
 
     def write(self, path, attrs=None) -> _FilePath:
-        """Write CSV or HDF5 by the file suffix (``.csv``, ``.h5``/``.hdf5``)."""
+        """Write the table (CSV, JSON or HDF5 by the suffix: :data:`SUFFIXES`) atomically, with
+        the unit of every column (:data:`UNITS`) and ``attrs`` (provenance) as metadata."""
+        from .._output import write_table
         suffix = _FilePath(path).suffix.lower()
-        if suffix == ".csv":
-            return self.to_csv(path)
-        if suffix in (".h5", ".hdf5"):
-            return self.to_hdf5(path, attrs)
-        raise FrictionRulesError(f"output {str(path)!r} has suffix {suffix!r}; constraint: .csv, .h5 or .hdf5")
+        if suffix not in SUFFIXES:
+            raise FrictionRulesError(f"output {str(path)!r} has suffix {suffix!r}; constraint: one "
+                                     f"of {', '.join(SUFFIXES)}")
+        return write_table(path, self.columns(), units=UNITS, metadata=attrs)
 
 
 def drive(model: ContactModel, path, state: ContactState | None = None, *, beta=0.5,
@@ -285,8 +283,11 @@ def read_path(file) -> Path:
 
 
 def _read_csv(file) -> Path:
-    with open(file, newline="", encoding="utf-8") as fh:
-        rows = list(csv.reader(fh))
+    try:
+        with open(file, newline="", encoding="utf-8") as fh:
+            rows = [r for r in csv.reader(fh) if r and not r[0].lstrip().startswith("#")]
+    except (UnicodeDecodeError, csv.Error) as exc:
+        raise FrictionRulesError(f"{file}: not a CSV text file ({exc})") from None
     if len(rows) < 2:
         raise FrictionRulesError(f"{file}: a CSV path needs a header and at least one row")
     header = [h.strip() for h in rows[0]]
@@ -309,22 +310,30 @@ def _read_csv(file) -> Path:
     return Path(fc, values)
 
 
-def _law_from_table(table: dict):
+def _table(value, where: str, file) -> dict:
+    """A TOML table (a dict), or a FrictionRulesError naming where it should be."""
+    if not isinstance(value, dict):
+        raise FrictionRulesError(f"{file}: {where} = {value!r} violates: must be a table")
+    return dict(value)
+
+
+def _law_from_table(table: dict, file=""):
     from .. import laws
     from ..laws import AreaGrowth, AreaHardening, EllipsoidCap
-    table = dict(table)
+    table = _table(table, "[model.law]", file)
     name = table.pop("type", None)
-    if name == "EllipsoidCap":
-        A = AreaHardening(**{k: table.pop(k) for k in ("p", "h", "kappa_h") if k in table})
-        B = AreaGrowth(**{k: table.pop(k) for k in ("b",) if k in table})
-        return EllipsoidCap(A=A, B=B, **table)
     known = ("Coulomb", "EllipticOrthotropic", "Huber", "TransformedCoulomb", "WedgeAsperity")
-    if name not in known:
-        raise FrictionRulesError(f"[model.law] type = {name!r}; constraint: one of {known + ('EllipsoidCap',)}")
+    if name not in (*known, "EllipsoidCap"):
+        raise FrictionRulesError(f"{file}: [model.law] type = {name!r}; constraint: one of "
+                                 f"{known + ('EllipsoidCap',)}")
     try:
+        if name == "EllipsoidCap":
+            A = AreaHardening(**{k: table.pop(k) for k in ("p", "h", "kappa_h") if k in table})
+            B = AreaGrowth(**{k: table.pop(k) for k in ("b",) if k in table})
+            return EllipsoidCap(A=A, B=B, **table)
         return getattr(laws, name)(**table)
     except TypeError as exc:
-        raise FrictionRulesError(f"[model.law] {name}: {exc}") from exc
+        raise FrictionRulesError(f"{file}: [model.law] {name}: {exc}") from exc
 
 
 def read_toml(file):
@@ -344,7 +353,7 @@ def read_toml(file):
         h = 0.2
         kappa_h = 0.05
         [output]
-        file = "out.csv"            # optional: .csv or .h5
+        file = "out.csv"            # optional: .csv, .json or .h5, relative to this file's folder
         [[segment]]
         N = 0.4
         dt1 = 0.0
@@ -357,20 +366,33 @@ def read_toml(file):
     from ..laws import SlipHardening
     file = _FilePath(file)
     doc = load_toml(file)
-    model_t = dict(doc.get("model", {}))
+    unknown = sorted(set(doc) - {"model", "output", "segment"})
+    if unknown:
+        raise FrictionRulesError(f"{file}: unknown tables {unknown}; known: model, output, segment")
+    model_t = _table(doc.get("model", {}), "[model]", file)
     if "law" not in model_t:
         raise FrictionRulesError(f"{file}: missing [model.law] table")
-    law = _law_from_table(model_t.pop("law"))
+    law = _law_from_table(model_t.pop("law"), file)
     hard = model_t.pop("hardening", None)
     beta = model_t.pop("beta", 0.5)
     try:
-        model = ContactModel(law, hardening=SlipHardening(**hard) if hard else None, **model_t)
+        hardening = SlipHardening(**_table(hard, "[model.hardening]", file)) if hard else None
+        model = ContactModel(law, hardening=hardening, **model_t)
     except TypeError as exc:
         raise FrictionRulesError(f"{file}: [model]: {exc}") from exc
-    if "segment" not in doc:
+    model.initial_state(beta=beta)  # checks beta where it enters
+    segments = doc.get("segment")
+    if not isinstance(segments, list) or not segments:
         raise FrictionRulesError(f"{file}: no [[segment]] tables")
-    path = Path.from_segments(doc["segment"])
-    out = doc.get("output", {}).get("file")
+    tables = [_table(seg, f"segment {k}", file) for k, seg in enumerate(segments)]
+    total = sum(t.get("steps", 1) for t in tables if isinstance(t.get("steps", 1), int))
+    if total > MAX_FILE_STEPS:
+        raise FrictionRulesError(f"{file}: {total} steps in all; constraint: at most "
+                                 f"{MAX_FILE_STEPS} in a drive file")
+    path = Path.from_segments(tables)
+    out = _table(doc.get("output", {}), "[output]", file).get("file")
     if out is not None:
-        out = (file.parent / out)
+        if not isinstance(out, str) or not out:
+            raise FrictionRulesError(f"{file}: [output] file = {out!r} violates: a file name")
+        out = file.parent / out
     return model, path, {"beta": beta, "output": out}

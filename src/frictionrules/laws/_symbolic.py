@@ -198,7 +198,9 @@ def derive(form: SymbolicLaw) -> Derived:
 
 @functools.lru_cache(maxsize=1024)
 def form_of(law) -> SymbolicLaw:
-    """``law.symbolic_form()``, built once per law."""
+    """``law.symbolic_form()``, built once per law (SymPy: the extra ``symbolic``)."""
+    from .._optional import require
+    require("sympy", purpose=f"the symbolic form of {type(law).__name__}")
     return law.symbolic_form()
 
 

@@ -122,7 +122,8 @@ class UserLaw(FrictionLaw):
     rates: tuple
 
     def __init__(self, limit, potential=None, params=None, state=None, rates=None):
-        import sympy
+        from .._optional import require
+        sympy = require("sympy", purpose="UserLaw")
 
         from .symbols import N, T1, T2
         params = tuple((_check_name("parameter", k), check_finite(k, v).item() if np.ndim(v) == 0
@@ -227,7 +228,9 @@ class UserLaw(FrictionLaw):
     @classmethod
     def from_mapping(cls, table, *, name: str = "law") -> "UserLaw":
         """A user law from a mapping (e.g. a TOML table): ``limit`` (required), ``potential``,
-        ``params``, ``state`` and ``rates`` (tables), as the constructor takes them::
+        ``params``, ``state`` and ``rates`` (tables), as the constructor takes them.
+
+        .. code-block:: toml
 
             [law]
             limit = "sqrt(T1**2 + T2**2) - mu*N"

@@ -15,7 +15,7 @@ from .laws import (
     wedge_limit_curve,
     wedge_parabolic,
 )
-# configuration softening (issue 5)
+# configuration softening (§3)
 from .configuration import (
     cylinder_limit_evolution,
     limit_evolution,
@@ -23,9 +23,9 @@ from .configuration import (
     softening_curve,
     sphere_limit_evolution,
 )
-# elastic-plastic contact, Fig. 10 (issue 4)
+# elastic-plastic contact, Fig. 10 (§4)
 from .contact import cap_hardening, cap_shear_curves, cap_surface
-# asperity mechanisms, Figs. 5-7 (issue 3)
+# asperity mechanisms, Figs. 5-7 (§2)
 from .asperities import (
     fig5_two_flank,
     fig6a_limit_surface,
@@ -36,7 +36,7 @@ from .asperities import (
 )
 
 __all__ = [
-    # asperity mechanisms (issue 3)
+    # asperity mechanisms (§2)
     "limit_curve",
     "fig5_two_flank",
     "fig6a_limit_surface",
@@ -51,13 +51,13 @@ __all__ = [
     "wedge_limit_curve",
     "wedge_elliptic",
     "wedge_parabolic",
-    # configuration softening (issue 5)
+    # configuration softening (§3)
     "limit_evolution",
     "cylinder_limit_evolution",
     "sphere_limit_evolution",
     "softening_curve",
     "pocket_peak_force",
-    # elastic-plastic contact, Fig. 10 (issue 4)
+    # elastic-plastic contact, Fig. 10 (§4)
     "cap_surface",
     "cap_hardening",
     "cap_shear_curves",
