@@ -109,7 +109,9 @@ class GeneralGeometry:
                 res = a >= vt * hi + TOL
                 unsure = ~res & (a >= vt * lo - TOL)
                 if unsure.any():
-                    res[unsure] = a[unsure] >= vt[unsure] * law.dilatancy(theta[unsure]) - TOL
+                    psi = law.dilatancy(theta[unsure])      # inf where the law locks that way
+                    vu = vt[unsure]
+                    res[unsure] = a[unsure] >= vu * np.where(vu > 0, psi, 0.0) - TOL
             else:
                 res = a >= -TOL
             if skip is not None:
@@ -162,7 +164,8 @@ class GeneralGeometry:
                 theta = np.arctan2(v2, v1)
                 psi = lb.dilatancy(theta) if exact or not hasattr(lb, "dilatancy_estimate") \
                     else lb.dilatancy_estimate(theta)
-                hb = hb - np.hypot(v1, v2) * psi
+                vt = np.hypot(v1, v2)
+                hb = hb - np.where(vt > 0, vt, 0.0) * np.where(vt > 0, psi, 0.0)
             return hb
 
         P = len(a)
@@ -284,7 +287,7 @@ class GeneralGeometry:
             dm = wrap(np.arctan2(s.velocity[:, 1], s.velocity[:, 0]) - theta[q[idx]])
             return np.where(np.isfinite(s.load), dm, np.pi)    # a locked gap acts as a jump
 
-        root = bracketed_root(mismatch, lo, hi, d[q, i], dn[q, i])
+        root = bracketed_root(mismatch, lo, hi, d[q, i], dn[q, i], xtol=1e-12)
         s = self.solve(directions(root))
         loads = [(q, s.load[:, None] * directions(root))]
         loads.append(self._pair_segments(theta))
@@ -304,20 +307,26 @@ class GeneralGeometry:
         ang = np.arctan2(Vh[:, 1], Vh[:, 0])
         q, p = np.nonzero((np.abs(wrap(ang[None, :] - theta[:, None])) < 1e-9)
                           & (np.hypot(*Vh.T) > 1e-12)[None, :])
-        rows, pts = [], []
+        rows, pts, pairs = [], [], []
         for qq, pp in zip(q, p):
             rj, rk = self.pair_r[pp]
             # F = -(N_j r_j + N_k r_k) with F_z = -1: loads between the ends N_k = 0, N_j = 0
             ends = np.array([-r[:2] / r[2] for r in (rj, rk) if r[2] > 0])
-            if len(ends) < 2:
-                continue
-            T = nearest_on_segments(ends)
-            s = self.solve(unit(T)[None] if np.hypot(*T) > 0 else np.array([[1.0, 0.0]]))
-            if s.mechanism(0) == tuple(self.index[[self.pair_j[pp], self.pair_k[pp]]]) and \
-                    abs(s.load[0] - np.hypot(*T)) <= 1e-9 * (1.0 + np.hypot(*T)):
+            if len(ends) == 2:
                 rows.append(qq)
-                pts.append(T)
-        return np.array(rows, dtype=int), np.array(pts).reshape(-1, 2)
+                pts.append(nearest_on_segments(ends))
+                pairs.append(pp)
+        if not rows:
+            return np.zeros(0, int), np.zeros((0, 2))
+        T, pairs = np.array(pts), np.array(pairs)
+        size = np.hypot(T[:, 0], T[:, 1])
+        s = self.solve(np.where(size[:, None] > 0, T / np.where(size > 0, size, 1.0)[:, None],
+                                [1.0, 0.0]))
+        want = self.index[np.stack((self.pair_j[pairs], self.pair_k[pairs]), axis=-1)]
+        same = np.all(s.active, axis=-1) & np.all(np.sort(s.facets, axis=-1) == np.sort(want, -1),
+                                                    axis=-1)
+        same &= np.abs(s.load - size) <= 1e-9 * (1.0 + size)
+        return np.array(rows)[same], T[same]
 
     def downward_velocity(self):
         """A unit velocity admissible for the associated twins that makes the block descend

@@ -84,7 +84,7 @@ class FacetLaw(FrictionLaw):
             rows = np.flatnonzero(sol.active[:, s])
             forces[rows, sol.facets[rows, s]] = Q * sol.forces[rows, s]
         locked = ~sol.active[:, 0]
-        t = np.where(locked, np.inf, sol.load * Q)
+        t = np.where(locked, np.inf, np.where(locked, 0.0, sol.load) * Q)
         T = np.where(locked[:, None], np.inf, np.where(locked, 0.0, t)[:, None] * dd)
         out = LimitLoads(load=t, T=T, locked=locked, facets=sol.facets, active=sol.active,
                          normal_forces=forces, velocity=sol.velocity,

@@ -322,7 +322,9 @@ class CurveLocal(_Local):
         beta = -np.pi + _TWO_PI * np.arange(CURVE_SAMPLES) / CURVE_SAMPLES
         T, fin = self._point(beta)
         s = self._slip(T, np.ones(len(beta)))
-        psi = np.divide(s[:, 2], np.hypot(s[:, 0], s[:, 1]))
+        vt = np.hypot(s[:, 0], s[:, 1])
+        fin &= vt > 0
+        psi = s[:, 2] / np.where(fin, vt, 1.0)
         return beta, T, fin, _slip_angle(s), psi
 
     @property
@@ -391,8 +393,10 @@ class CurveLocal(_Local):
         if not self.dilatant:
             return np.zeros(theta.shape)
         T, locked = self.inverse(theta)
-        s = self._slip(np.where(locked[..., None], 0.0, T), np.ones(theta.shape))
-        return np.where(locked, np.inf, s[..., 2] / np.hypot(s[..., 0], s[..., 1]))
+        s = self._slip(np.where(locked[..., None], self.centre, T), np.ones(theta.shape))
+        vt = np.hypot(s[..., 0], s[..., 1])
+        locked = locked | (vt == 0)
+        return np.where(locked, np.inf, s[..., 2] / np.where(locked, 1.0, vt))
 
     def dilatancy_estimate(self, theta):
         """ψ(theta) interpolated on the sampled curve: for brackets only."""
