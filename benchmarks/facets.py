@@ -31,7 +31,7 @@ LAWS = {
     "Coulomb(0.4, dilatant)": Coulomb(0.4, dilatant=True),
     "EllipticOrthotropic(0.5, 0.3)": EllipticOrthotropic(0.5, 0.3, 0.2),
     "Huber(0.5, 0.4)": Huber(0.5, 0.4, 0.2),
-    "UserLaw (elliptic limit, g = |T| - 0.1 N)": UserLaw(
+    "UserLaw (elliptic limit, dilatant potential)": UserLaw(
         "sqrt((T1/a)**2 + (T2/b)**2) - N", potential="sqrt(T1**2 + T2**2) - psi*N",
         params={"a": 0.5, "b": 0.4, "psi": 0.1}),
 }
