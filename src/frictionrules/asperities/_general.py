@@ -339,13 +339,18 @@ class GeneralGeometry:
         for g, law in enumerate(geo.laws):
             J = np.flatnonzero(geo.law_of == g)
 
-            def height(pp):
-                pp = np.asarray(pp)
-                V = geo._global(law.boundary(pp), np.broadcast_to(J, pp.shape))
+            def height(pp, facets):
+                V = geo._global(law.boundary(pp), np.broadcast_to(facets, np.shape(pp)))
                 return np.nan_to_num(V[..., 2], nan=np.inf)
 
-            i = np.argmin(height(np.broadcast_to(p[:, None], (len(p), len(J)))), axis=0)
-            best, _ = golden_min(height, p[i] - step, p[i] + step, iters=40)
+            hs = height(np.broadcast_to(p[:, None], (len(p), len(J))), J)
+            i = np.argmin(hs, axis=0)
+            best = p[i]
+            # the sampled minimum is within O(step^2) of the true one: refine near zero only
+            near = np.abs(hs[i, np.arange(len(J))]) < 1e-3
+            if near.any():
+                best[near] = golden_min(lambda x: height(x, J[near]), best[near] - step,
+                                        best[near] + step, iters=40)[0]
             cands.append(unit(geo._global(law.boundary(best), J)))
         V = np.concatenate(cands)
         V = V[(V[:, 2] < -1e-12)]

@@ -16,8 +16,8 @@ def bracketed_root(fun, a: np.ndarray, b: np.ndarray, fa: np.ndarray, fb: np.nda
 
     The Illinois variant of regula falsi (Dowell & Jarratt 1971), with a bisection every fifth
     step; ``fun`` maps an array of abscissae (any subset of the entries, passed with their
-    indices) to the function values: ``fun(x, idx)``. Converged where the bracket is below
-    ``xtol + 4 eps |x|`` or a value is exactly zero.
+    indices) to the function values: ``fun(x, idx)``. Converged where the bracket or a secant
+    step is below ``xtol + 4 eps |x|``, or a value is exactly zero.
     """
     a, b = np.array(a, dtype=float), np.array(b, dtype=float)
     fa, fb = np.array(fa, dtype=float), np.array(fb, dtype=float)
@@ -35,7 +35,8 @@ def bracketed_root(fun, a: np.ndarray, b: np.ndarray, fa: np.ndarray, fb: np.nda
         bisect = ~np.isfinite(xi) | (xi <= lo) | (xi >= hi) | (it % 5 == 4)
         xi = np.where(bisect, 0.5 * (ai + bi), xi)
         fx = np.asarray(fun(xi, idx), dtype=float)
-        zero = fx == 0.0
+        # a secant step below the tolerance has reached the root
+        zero = (fx == 0.0) | (~bisect & (np.abs(xi - bi) <= xtol + 4.0 * _EPS * np.abs(xi)))
         swap = np.sign(fx) != np.sign(fbi)          # the root lies between b and x
         # Illinois: where the end a is kept a second time, halve its value
         a[idx] = np.where(swap, bi, ai)
