@@ -138,7 +138,7 @@ def test_local_laws_match_an_independent_mechanism_search(case):
 @pytest.mark.parametrize("normals", [FIG5_NORMALS, random_normals(2, 5)])
 def test_equal_coefficients_reduce_to_coulomb(normals):
     mu = 0.45
-    phi, d = directions(60)
+    phi, d = directions(36)
     ref = FacetSet(normals, mu).limit_load(d)
     fin = np.isfinite(ref.load)
     # mu_x = mu_y: Coulomb exactly (the fast path), whatever the axes' angle
@@ -344,7 +344,7 @@ def test_dilatant_user_law_without_a_cone():
 
 # ---- user laws --------------------------------------------------------------------------------
 def test_user_laws_equal_the_built_in_laws_they_write():
-    phi, d = directions(36)
+    phi, d = directions(24)
     normals = random_normals(2, 4)
     cone = UserLaw("sqrt((T1/a)**2 + (T2/b)**2) - N", potential="sqrt((T1/a)**2 + (T2/b)**2)",
                    params={"a": 0.55, "b": 0.35})
