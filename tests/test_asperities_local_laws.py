@@ -457,3 +457,30 @@ def test_orthotropic_facet_must_carry_the_vertical_load():
     with pytest.raises(FrictionRulesError, match="cannot carry"):
         FacetSet(n, Huber(0.5, 0.7))
     FacetSet(n, Huber(0.6, 0.5))
+
+
+# ---- a machined surface with local laws, end to end ------------------------------------------
+def test_machined_surface_with_orthotropic_and_dilatant_facets():
+    """Grooves along y (rising at 0.35, falling at 0.2 across): every facet's t1 lies across
+    the lay and t2 along it, so machined facets EllipticOrthotropic(mu_x, mu_y) slide across
+    the lay as Coulomb mu_x — tan(atan s + atan mu_x), s the slope climbed — and along it as
+    Coulomb mu_y. A dilatant (associated) machined law never gives smaller limit loads."""
+    from frictionrules import from_heightmap
+    from frictionrules.asperities.surfaces import machined_surface
+
+    h = machined_surface(48, period=16.0, roughness=0.0)
+    law = EllipticOrthotropic(0.25, 0.12)
+    ortho = from_heightmap(h, 1.0, 1.0, law)
+    across = ortho.friction_coefficient(np.array([0.0, np.pi]))
+    np.testing.assert_allclose(across, np.tan(np.arctan([0.35, 0.2]) + np.arctan(0.25)),
+                               rtol=1e-9)
+    along = from_heightmap(h, 1.0, 1.0, 0.12).friction_coefficient(np.pi / 2)
+    assert float(ortho.friction_coefficient(np.pi / 2)) == pytest.approx(float(along), rel=1e-9)
+
+    rough = machined_surface(48, period=16.0, roughness=0.1, correlation=3.0)
+    phi, d = directions(24)
+    plain = from_heightmap(rough, 1.0, 1.0, law).limit_load(d)
+    dilatant = from_heightmap(rough, 1.0, 1.0, elliptic_cone(0.25, 0.12, 1.0)).limit_load(d)
+    assert np.all(dilatant.load >= plain.load * (1 - 1e-9))
+    np.testing.assert_array_equal(dilatant.load, from_heightmap(rough, 1.0, 1.0, law,
+                                                                "associated").limit_load(d).load)
