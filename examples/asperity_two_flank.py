@@ -1,11 +1,12 @@
-"""The paper's two-flank asperity (Fig. 5): mechanisms, concave corners, non-associated rule.
+"""The paper's two-flank asperity (Fig. 5): mechanisms, concave corners, non-associated rule;
+then the same groove with machined (orthotropic) flanks.
 
 Run: python examples/asperity_two_flank.py
 """
 
 import numpy as np
 
-from frictionrules import TwoFlankAsperity
+from frictionrules import EllipticOrthotropic, TwoFlankAsperity
 
 
 def main():
@@ -25,6 +26,12 @@ def main():
           f"{np.rad2deg(curve.rule_angle[fin].max()):.1f} deg")
     mu_y = float(law.friction_coefficient(np.pi / 2))
     print(f"mu for sliding along the grooves: {mu_y:.4f}")
+    # machined flanks: the local law in each flank's frame (docs/conventions.md), axis 1 (t1)
+    # up the slope with mu_x = 1, axis 2 along the groove with half of it
+    machined = TwoFlankAsperity(np.pi / 3, 5 * np.pi / 6, EllipticOrthotropic(1.0, 0.5))
+    theta = np.deg2rad([0.0, 45.0, 90.0, 135.0, 180.0])
+    print("machined flanks, mu(theta) at 0, 45, 90, 135, 180 deg:",
+          np.round(machined.friction_coefficient(theta), 4))
     return mu_y
 
 

@@ -118,6 +118,13 @@ def test_asperity_measured_surface_example(tmp_path, capsys):
     assert "opdx-3.opdx  scale 0.08328" in capsys.readouterr().out
 
 
+def test_asperity_machined_local_law_example():
+    mu = load("asperity_machined_local_law").main(n=64)
+    coulomb, machined = mu["Coulomb 0.2"], mu["machined: 0.25 across, 0.12 along the lay"]
+    assert machined[0] > coulomb[0] and machined[2] < coulomb[2]   # across / along the lay
+    assert np.all(np.isfinite(mu["dilatant machined (g = f)"]))
+
+
 # ---- configuration softening (§3) ----------------------------------------------------
 def test_cylinder_softening_example():
     out = load("configuration_cylinder_softening").main()

@@ -1,4 +1,4 @@
-"""Asperity mechanisms (§2): global laws of a rigid block on facets with local Coulomb friction.
+"""Asperity mechanisms (§2): global laws of a rigid block on facets carrying a local friction law.
 
 :class:`FacetSet` (any facets), :class:`TwoFlankAsperity` (the paper's Fig. 4 model with its
 closed forms), :func:`from_profile` / :func:`from_heightmap` (facets of real surfaces) and
@@ -7,7 +7,7 @@ closed forms), :func:`from_profile` / :func:`from_heightmap` (facets of real sur
 :func:`scale_study`.
 """
 
-from .facets import Corner, FacetSet, LimitCurve, LimitLoad
+from .facets import Corner, FacetSet, LimitCurve, LimitLoad, LimitLoads
 from .calibration import FitResult, FittedParameter, compare_fits, fit, format_fits
 from .surfaces import from_heightmap, from_profile
 from ._surface_law import ScaleStudy, SurfaceFriction, from_topography, scale_study
@@ -21,6 +21,7 @@ __all__ = [
     "from_heightmap",
     "fit",
     "LimitLoad",
+    "LimitLoads",
     "LimitCurve",
     "Corner",
     "FitResult",

@@ -47,13 +47,14 @@ import numpy as np
 
 from ..errors import FrictionRulesError, check_finite, check_scalar
 from ..laws.wedge import WedgeAsperity
-from .facets import _LOCALS, FacetSet, _FacetLaw
+from ._law import FacetLaw
+from .facets import LOCALS, FacetSet, law_parameters, local_argument, replace_law
 
 __all__ = ["TwoFlankAsperity"]
 
 
-@dataclass(frozen=True)
-class TwoFlankAsperity(_FacetLaw):
+@dataclass(frozen=True, init=False)
+class TwoFlankAsperity(FacetLaw):
     r"""The two-flank (groove) asperity of Fig. 4 as a facet set with its closed forms.
 
     Parameters
@@ -63,31 +64,68 @@ class TwoFlankAsperity(_FacetLaw):
     alpha2 : float
         Inclination of flank 2 in the paper's convention, in (pi/2, pi): it rises towards -x
         at the slope ``pi - alpha2``.
-    mu : float
-        Local friction coefficient, ``mu > 0``.
+    mu : float, FrictionLaw, or a pair of those
+        The flanks' local law: a number is the local Coulomb coefficient ``mu > 0``; a law
+        (or one per flank) as for :class:`FacetSet`, in each flank's frame (``t1`` the
+        up-slope direction of flank 1, ``(cos alpha1, 0, sin alpha1)``, and of flank 2 the
+        direction towards +x, down its slope). ``law=`` is accepted as well.
     local : {"non-associated", "associated"}
-        Local sliding rule, (1.5) or (1.6).
+        Local sliding rule, (1.5) or (1.6) for a number; for a law, its own rule or its
+        associated twin (g = f), as for :class:`FacetSet`.
 
-    Everything of :class:`FacetSet` is available (facet 0 is flank 1, facet 1 is flank 2).
+    Everything of :class:`FacetSet` is available (facet 0 is flank 1, facet 1 is flank 2); the
+    closed forms (:meth:`closed_form_load`, :meth:`pair_range`, :meth:`flank`) need local
+    Coulomb friction.
     """
 
     alpha1: float
     alpha2: float
-    mu: float
+    mu: object
     local: str = "non-associated"
 
-    def __post_init__(self):
-        object.__setattr__(self, "alpha1", check_scalar("alpha1", self.alpha1, lo=0.0, hi=np.pi / 2,
+    def __init__(self, alpha1, alpha2, mu=None, local: str = "non-associated", *, law=None):
+        object.__setattr__(self, "alpha1", check_scalar("alpha1", alpha1, lo=0.0, hi=np.pi / 2,
                                                         lo_open=True, hi_open=True))
-        object.__setattr__(self, "alpha2", check_scalar("alpha2", self.alpha2, lo=np.pi / 2,
+        object.__setattr__(self, "alpha2", check_scalar("alpha2", alpha2, lo=np.pi / 2,
                                                         hi=np.pi, lo_open=True, hi_open=True))
-        object.__setattr__(self, "mu", check_scalar("mu", self.mu, lo=0.0, lo_open=True))
-        if self.local not in _LOCALS:
-            raise FrictionRulesError(f"local = {self.local!r} violates local in {_LOCALS}")
+        if local not in LOCALS:
+            raise FrictionRulesError(f"local = {local!r} violates local in {LOCALS}")
+        # the keyword of a number is mu, of a law law; either takes either
+        value = local_argument(law, mu, 2, "TwoFlankAsperity")
+        object.__setattr__(self, "mu", value)
+        object.__setattr__(self, "local", local)
+        if not isinstance(value, float):
+            self._facets                       # a local law is checked where it enters
 
     @functools.cached_property
     def _facets(self) -> FacetSet:
         return FacetSet(self.normals(), self.mu, self.local)
+
+    @property
+    def law(self):
+        """The local law argument (the same as :attr:`mu`)."""
+        return self.mu
+
+    @property
+    def parameters(self) -> dict[str, float]:
+        """``alpha1``, ``alpha2`` and the local law's parameters (``mu`` for a number)."""
+        return {"alpha1": self.alpha1, "alpha2": self.alpha2, **law_parameters(self.mu)}
+
+    def replace(self, **changes) -> "TwoFlankAsperity":
+        """A copy with some of :attr:`parameters` changed (validated)."""
+        geo = {k: changes.pop(k) for k in ("alpha1", "alpha2") if k in changes}
+        return TwoFlankAsperity(geo.get("alpha1", self.alpha1), geo.get("alpha2", self.alpha2),
+                                replace_law(self.mu, changes), self.local)
+
+    @property
+    def _mu(self) -> float:
+        """The local Coulomb coefficient of the closed forms."""
+        try:
+            return self._facets.mu
+        except FrictionRulesError:
+            raise FrictionRulesError(
+                f"the closed forms (2.9)-(2.17) are for local Coulomb friction; the flanks' law "
+                f"is {self.mu!r}: use limit_load or limit_curve") from None
 
     def normals(self) -> np.ndarray:
         """``(2, 3)``: :math:`n_1 = (-\\sin\\alpha_1, 0, \\cos\\alpha_1)`,
@@ -99,7 +137,8 @@ class TwoFlankAsperity(_FacetLaw):
         """Flank ``i`` (1 or 2) alone, as the wedge of (2.1)–(2.8)."""
         if i not in (1, 2):
             raise FrictionRulesError(f"i = {i!r} violates i in (1, 2)")
-        return WedgeAsperity(self.alpha1 if i == 1 else self.alpha2, self.mu, self.local)
+        return WedgeAsperity(self.alpha1 if i == 1 else self.alpha2, self._mu,
+                             "associated" if self.associated else "non-associated")
 
     # ---- closed forms ------------------------------------------------------------------------
     @property
@@ -108,7 +147,7 @@ class TwoFlankAsperity(_FacetLaw):
         for ``c**2 > 0`` (``delta + rho < pi/2``)."""
         delta = 0.5 * (np.pi + self.alpha1 - self.alpha2)
         m = 0.5 * (self.alpha1 + self.alpha2)
-        sr = np.sin(np.arctan(self.mu))
+        sr = np.sin(np.arctan(self._mu))
         c2 = 1.0 - sr**2 / np.cos(delta) ** 2
         return delta, m, sr, c2
 
@@ -121,12 +160,12 @@ class TwoFlankAsperity(_FacetLaw):
         """
         s1, s2 = np.sin(self.alpha1), np.sin(self.alpha2)
         if not self.associated:
-            return -s2 / self.mu, s1 / self.mu
+            return -s2 / self._mu, s1 / self._mu
         delta, m, sr, c2 = self._assoc_pair
         if c2 <= 1e-12:
             raise FrictionRulesError(
                 f"the associated two-flank mechanism needs delta + rho < pi/2: delta = {delta!r}, "
-                f"rho = {float(np.arctan(self.mu))!r}")
+                f"rho = {float(np.arctan(self._mu))!r}")
         c = np.sqrt(c2)
         shift = sr**2 * np.cos(m) / np.cos(delta)
         return -(s2 - shift) / (c * sr), (s1 + shift) / (c * sr)
@@ -150,7 +189,7 @@ class TwoFlankAsperity(_FacetLaw):
         lo, hi = self.pair_range()
         with np.errstate(divide="ignore", invalid="ignore"):
             ratio = np.where(dy > 0, dx / np.where(dy > 0, dy, 1.0), np.sign(dx) * np.inf)
-        a1, a2, mu = self.alpha1, self.alpha2, self.mu
+        a1, a2, mu = self.alpha1, self.alpha2, self._mu
         if self.associated:
             delta, m, sr, c2 = self._assoc_pair
             kappa = sr / np.sqrt(np.cos(delta) ** 2 - sr**2)
@@ -178,7 +217,7 @@ class TwoFlankAsperity(_FacetLaw):
         :math:`T_1 \ge \mu^2\tan\delta\,N` (associated: :math:`V\cdot n_{other} \ge
         \sin\varrho`).
         """
-        mu = self.mu
+        mu = self._mu
         climb = mu**2 * np.tan(self._assoc_pair[0]) if self.associated else 0.0
         A = dx**2 * (np.cos(a) ** 2 - mu**2 * np.sin(a) ** 2) + dy**2
         B = -dx * Q * np.sin(2 * a) * (1 + mu**2)
