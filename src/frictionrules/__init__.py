@@ -36,6 +36,7 @@ from .contact import ContactModel, ContactState, DriveResult, UpdateResult, driv
 from .configuration import (
     CylinderOnLayer,
     ForceControlResult,
+    GrainContact,
     GrainState,
     LimitPoint,
     PathResult,
@@ -88,6 +89,7 @@ __all__ = [
     # configuration softening (§3)
     "CylinderOnLayer",
     "SphereOnLayer",
+    "GrainContact",
     "GrainState",
     "PathResult",
     "LimitPoint",

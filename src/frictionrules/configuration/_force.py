@@ -95,7 +95,7 @@ def force_path(model, forces, state: GrainState | None, Q: float) -> ForceContro
                 "the slope: the grain would slide back into the pocket it comes from, which a "
                 "one-contact model does not follow")
         lp = LimitPoint(i, float(s), np.array(force, dtype=float),
-                        support.state(mech.contacts, heights[-1]))
+                        support.state(mech.contacts, heights[-1]), mech.velocity.copy())
         if len(mech.contacts) > 1 or not mech.quasi_static:
             return lp, None
         k = mech.contacts[0]

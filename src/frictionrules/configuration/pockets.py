@@ -137,12 +137,6 @@ def crossing(fun, a: float, b: float) -> float:
     return float(brentq(fun, a, b, xtol=1e-14 * max(abs(b), 1.0), rtol=4 * np.finfo(float).eps))
 
 
-def pocket_contacts(model):
-    """Unit normals ``(K, 3)`` and ids of the layer grains touching the grain at rest."""
-    t = touching(model.layer, np.zeros(2))
-    return t.normals, list(t.ids)
-
-
 def breakout_force(model, directions, Q: float) -> PeakForcePolar:
     """Break-out (peak) force of the grain at rest for forces along ``directions`` (radians).
 

@@ -99,13 +99,16 @@ class LimitPoint:
     ``index`` is the last point that sticks, ``fraction`` in [0, 1] locates the limit point on
     the increment to the next point (0 when the run starts on the limit curve), ``force`` is the
     force there and ``state`` the configuration, whose ``contacts`` are the contacts that start
-    to slide (the mechanism: one, or two at once on a ridge).
+    to slide (the mechanism: one, or two at once on a ridge). ``velocity`` (3,) is the unit
+    grain velocity of the mechanism (``Vz > 0`` upwards): displacement control along its
+    horizontal part continues past the limit point.
     """
 
     index: int
     fraction: float
     force: np.ndarray
     state: GrainState
+    velocity: np.ndarray | None = None
 
 
 @dataclass(frozen=True)
