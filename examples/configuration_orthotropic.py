@@ -23,10 +23,10 @@ def main(mu_x: float = 0.2, mu_y: float = 0.4, Q: float = 1.0) -> dict:
     for th, t, over in zip(directions, bo.peak, bo.mechanism):
         print(f"force at {np.degrees(th):5.0f} deg: break-out |T| = {t / Q:.4f} Q, over {over}")
 
-    beta = np.radians(45.0)
+    beta = np.radians(50.0)
     ramp = Q * np.outer(np.linspace(0.0, 3.0, 61), [np.cos(beta), np.sin(beta)])
     lp = sph.force_path(ramp, Q=Q).limit_point
-    print(f"force control at 45 deg: limit point |T| = {np.hypot(*lp.force) / Q:.4f} Q, "
+    print(f"force control at 50 deg: limit point |T| = {np.hypot(*lp.force) / Q:.4f} Q, "
           f"sliding on {lp.state.contacts}")
 
     V = lp.velocity                       # the mechanism: the grain climbs one layer sphere

@@ -241,3 +241,50 @@ def test_isotropic_elliptic_contacts_are_coulomb():
                            b.displacement_path(path, method).force, atol=1e-10)
     st_ = a.state_at((0.1, 0.05), 0.3)
     assert np.allclose(a.limit_curve(st_), b.limit_curve(st_), atol=1e-10)
+
+
+# ---- orthotropic grain contacts, end to end -------------------------------------------------------
+ORTHO = EllipticOrthotropic(0.2, 0.4, 0.3)
+
+
+def test_orthotropic_pocket_end_to_end():
+    """Each contact carries EllipticOrthotropic in its own frame (t1 the projection of x): the
+    pocket is the facet set with that local law (the same frames), force control reaches its
+    limit load in every direction, and where one contact slides the break-out force is on that
+    contact's limit curve (its own frame and law) with a slip that separates the grain from the
+    other layer grains."""
+    from frictionrules import GrainContact
+    from frictionrules.configuration._frame import axes_of
+    sph = SphereOnLayer(1.0, law=ORTHO, packing="square")
+    pocket = touching(sph.layer, np.zeros(2))
+    assert np.allclose(FacetSet(pocket.normals, ORTHO).frames(), axes_of(pocket.normals[:, :2], 1.0),
+                       atol=1e-14)
+    beta = np.linspace(0.0, 2 * np.pi, 16, endpoint=False) + 0.02
+    bo = sph.breakout_force(beta, Q=1.5)
+    assert np.all(np.isfinite(bo.peak)) and set(bo.count) == {1, 2}
+    for b, T, mech in zip(beta, bo.start, bo.mechanism):
+        res = sph.force_path(ramp(b, top=6.0, n=21), Q=1.5)
+        assert np.allclose(res.limit_point.force, T, rtol=1e-10, atol=1e-12)
+        assert res.limit_point.state.contacts == mech
+        if len(mech) == 1:
+            k = pocket.ids.index(mech[0])
+            n = pocket.normals[k]
+            a, p = np.arccos(n[2]), np.arctan2(-n[1], -n[0])
+            contact = GrainContact(ORTHO, a, p)
+            assert abs(contact.limit(T, 1.5)) < 1e-10
+            V = contact.slip_direction(T, 1.5)
+            assert np.allclose(V, res.limit_point.velocity, atol=1e-8)
+            assert all(V @ pocket.normals[m] > 0 for m in range(4) if m != k)
+
+
+def test_orthotropic_example_runs_past_the_limit_point():
+    import importlib.util
+    from pathlib import Path
+    path = Path(__file__).resolve().parents[1] / "examples" / "configuration_orthotropic.py"
+    spec = importlib.util.spec_from_file_location("configuration_orthotropic", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    out = module.main()
+    assert out["limit_point"] == pytest.approx(out["start"], rel=1e-9)
+    assert out["end"] < 0.5 * out["start"]
+    assert out["rate_error"] < 1e-4

@@ -58,7 +58,7 @@ class Frames:
 @functools.lru_cache(maxsize=None)
 def _compiled():
     """Lambdified ``(axes, d axes/d r_x, d axes/d r_y)`` as functions of ``(r_x, r_y, d)``."""
-    sp = require("sympy", purpose="the rate relations of a grain contact")
+    sp = require("sympy", extra="symbolic")
     rx, ry = sp.symbols("r_x r_y", real=True)
     d = sp.Symbol("d", positive=True)
     n = sp.Matrix([rx, ry, sp.sqrt(d**2 - rx**2 - ry**2)]) / d
@@ -74,7 +74,7 @@ def _compiled_kinematics():
     r"""Lambdified :math:`\partial(\alpha, \psi)/\partial r` of ``(alpha, psi, d)`` for a sphere
     (the inverse of the Jacobian of :math:`r = -d\sin\alpha\,e_\psi`) and
     :math:`\partial\alpha/\partial r_x` for a cylinder (:math:`r_x = -d\sin\alpha`)."""
-    sp = require("sympy", purpose="the rate relations of a grain contact")
+    sp = require("sympy", extra="symbolic")
     a, p = sp.symbols("alpha psi", real=True)
     d = sp.Symbol("d", positive=True)
     r = sp.Matrix([-d * sp.sin(a) * sp.cos(p), -d * sp.sin(a) * sp.sin(p)])
