@@ -14,7 +14,7 @@ from frictionrules import (Coulomb, EllipticOrthotropic, FrictionContactProblem,
 from frictionrules.io import GlobalProblem
 from frictionrules.multicontact import fc3d_error, project_cone
 
-METHODS = ("nsgs", "newton", "prox")
+METHODS = ("nsgs", "newton", "prox", "admm")
 
 
 def cone_violation(mu, r, u, dilatancy=None, scale_r=1.0, scale_u=1.0):
@@ -348,7 +348,7 @@ def test_cli_solve_file_and_folder(tmp_path, capsys):
     assert "p0.hdf5" in out and "contacts" in out
     csv = tmp_path / "out" / "table.csv"
     assert main(["solve", str(tmp_path), "--method", "prox", "--csv", str(csv)]) == 0
-    lines = csv.read_text().splitlines()
+    lines = [line for line in csv.read_text().splitlines() if not line.startswith("#")]
     assert lines[0].startswith("file,contacts,method") and len(lines) == 3
     assert all(line.split(",")[5] == "1" for line in lines[1:])
 
@@ -373,6 +373,135 @@ def test_cli_solve_folder_reports_a_bad_file_and_goes_on(tmp_path, capsys):
     assert main(["solve", str(tmp_path), "--csv", str(csv)]) == 1
     out = capsys.readouterr().out
     assert "a_bad.hdf5" in out and "error" in out and "b_good.hdf5" in out
-    rows = [line.split(",") for line in csv.read_text().splitlines()[1:]]
+    rows = [line.split(",") for line in csv.read_text().splitlines()[1:] if not line.startswith("#")]
     assert [r[0] for r in rows] == ["a_bad.hdf5", "b_good.hdf5"]
-    assert rows[0][5] == "0" and rows[1][5] == "1"
+    assert rows[0][5] == "0" and rows[1][5] == "1" and rows[0][6] == "bad input"
+
+
+# ---- options records, callback, time limit, reasons -------------------------------------------
+def test_options_records_are_validated_and_must_match_the_method():
+    from frictionrules import ADMMOptions, NewtonOptions, NSGSOptions, ProxOptions
+    for bad, match in [(lambda: ADMMOptions(eta=-1.0), "eta"), (lambda: ADMMOptions(anderson=-2), "anderson"),
+                       (lambda: NewtonOptions(armijo=2.0), "armijo"), (lambda: ProxOptions(grow=0.5), "grow"),
+                       (lambda: NSGSOptions(max_check_interval=0), "max_check_interval"),
+                       (lambda: ProxOptions(newton=3), "newton")]:
+        with pytest.raises(FrictionRulesError, match=match):
+            bad()
+    p = single(np.eye(3), [-1.0, 2.0, 0.0], 0.5)
+    with pytest.raises(FrictionRulesError, match="NSGSOptions"):
+        solve(p, method="nsgs", options=ADMMOptions())
+    with pytest.raises(FrictionRulesError, match="auto"):
+        solve(p, method="auto", options=ADMMOptions())
+    s = solve(p, method="admm", options=ADMMOptions(anderson=0), tol=1e-12)
+    np.testing.assert_allclose(s.r, [1.0, -0.5, 0.0], atol=1e-9)
+
+
+def block_stack(seed=0, nc=6):
+    rng = np.random.default_rng(seed)
+    A = rng.normal(size=(3 * nc, 3 * nc))
+    return FrictionContactProblem(A @ A.T + 0.1 * np.eye(3 * nc), rng.normal(size=3 * nc),
+                                  rng.uniform(0.1, 1.0, nc))
+
+
+@pytest.mark.parametrize("method", ("auto",) + METHODS)
+def test_callback_sees_every_iteration_and_can_stop(method):
+    from frictionrules import IterationInfo
+    seen = []
+    s = solve(block_stack(), method=method, tol=1e-12, callback=seen.append)
+    assert s.converged and s.reason == "converged" and seen
+    assert all(isinstance(i, IterationInfo) for i in seen)
+    assert seen[-1].error == pytest.approx(s.history[-1]) and seen[-1].seconds >= 0
+    stopped = solve(block_stack(1, nc=20), method=method, tol=1e-14, callback=lambda info: True)
+    assert stopped.reason == "callback" and not stopped.converged and len(stopped.history) == 1
+
+
+def test_time_limit_reported_as_not_converged():
+    p = block_stack(2, nc=30)
+    s = solve(p, method="nsgs", tol=0.0, time_limit=0.05)
+    assert not s.converged and s.reason == "time_limit" and s.seconds < 5.0
+    s = solve(p, method="newton", tol=0.0, max_iter=3)
+    assert not s.converged and s.reason == "max_iter"
+
+
+@pytest.mark.parametrize("method", ("auto",) + METHODS)
+def test_infeasible_problem_is_never_converged(method):
+    """mu = 0 and W_NN = 0 with q_N < 0: u_N = -1 whatever r, so no r satisfies the law; the
+    relative error can be pushed down by letting r_N grow, which must not count."""
+    p = FrictionContactProblem(np.diag([0.0, 1.0, 1.0]), [-1.0, 0.0, 0.0], [0.0])
+    s = solve(p, method=method, tol=1e-8, max_iter=2000)
+    assert not s.converged and s.reason in ("unbounded", "max_iter")
+
+
+def test_auto_is_a_named_choice_and_blas_threads_checked():
+    s = solve(block_stack(), method="auto", tol=1e-10)
+    assert s.converged and set(s.method.split("+")) <= {"nsgs", "newton", "prox", "admm"}
+    with pytest.raises(FrictionRulesError, match="blas_threads"):
+        solve(block_stack(), blas_threads=0)
+    with pytest.raises(FrictionRulesError, match="time_limit"):
+        solve(block_stack(), time_limit=-1.0)
+    assert solve(block_stack(), blas_threads=None, tol=1e-10).converged
+
+
+def test_cli_solve_outputs_checked_before_the_work(tmp_path, capsys):
+    from frictionrules.cli import main
+    from frictionrules.io import write_fclib
+    write_fclib(tmp_path / "p.hdf5", block_stack())
+    assert main(["solve", str(tmp_path / "p.hdf5"), "--csv", "/proc/x.csv"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and "/proc/x.csv" in err and ".x.csv" not in err
+    assert main(["solve", str(tmp_path / "p.hdf5"), "--csv", str(tmp_path / "t.txt")]) == 2
+    assert main(["solve", str(tmp_path / "p.hdf5"), "--save-solution", str(tmp_path / "s.png")]) == 2
+    assert main(["solve", str(tmp_path / "p.hdf5"), "--warm-start", str(tmp_path / "none.hdf5")]) == 2
+    assert "--warm-start" in capsys.readouterr().err
+
+
+def test_cli_solve_save_warm_start_time_limit_and_resume(tmp_path, capsys):
+    from frictionrules.cli import main
+    from frictionrules.io import read_solution, write_fclib
+    write_fclib(tmp_path / "a.hdf5", block_stack(3))
+    write_fclib(tmp_path / "b.hdf5", block_stack(4, nc=40))
+    sol = tmp_path / "out" / "a_sol.hdf5"
+    assert main(["solve", str(tmp_path / "a.hdf5"), "--method", "nsgs", "--save-solution", str(sol)]) == 0
+    assert read_solution(sol, size=18).shape == (18,)
+    capsys.readouterr()
+    assert main(["solve", str(tmp_path / "a.hdf5"), "--method", "nsgs", "--warm-start", str(sol)]) == 0
+    row = capsys.readouterr().out.splitlines()[1].split()
+    assert row[0] == "a.hdf5" and int(row[3]) <= 1
+    # a problem stopped by the time limit is not converged, with the reason
+    assert main(["solve", str(tmp_path / "b.hdf5"), "--method", "nsgs", "--tol", "0",
+                 "--time-limit", "0.05"]) == 1
+    captured = capsys.readouterr()
+    assert "not converged: time_limit" in captured.out
+    assert len(captured.err.strip().splitlines()) == 1    # stderr not a terminal: one summary line
+    # a folder run writes its table as it goes; a second run does not redo finished files
+    csv = tmp_path / "t.csv"
+    assert main(["solve", str(tmp_path), "--method", "nsgs", "--max-iter", "50", "--csv", str(csv)]) == 0
+    capsys.readouterr()
+    assert main(["solve", str(tmp_path), "--method", "nsgs", "--max-iter", "50", "--csv", str(csv)]) == 0
+    out = capsys.readouterr().out
+    assert out.count("(from --csv)") == 2
+    assert main(["solve", str(tmp_path), "--method", "nsgs", "--max-iter", "50", "--csv", str(csv),
+                 "--restart"]) == 0
+    assert "(from --csv)" not in capsys.readouterr().out
+
+
+# ---- the associated (dilatant, convex) relaxation ----------------------------------------------
+def test_associated_relaxation_single_contact_eq_1_5_vs_eq_1_6():
+    """W = I, q = (-1, 2, 0), mu = 0.5. Coulomb (1.5): r = (1, -0.5, 0), u = (0, 1.5, 0),
+    dissipation (1.7) D = mu r_N |u_T| = 0.75. Associated (1.6): u_N = mu |u_T|, r_N = 1.6,
+    u = (0.6, 1.2, 0): the friction work 0.8 * 1.2 = 0.96 lifts the normal force, 1.6 * 0.6,
+    and D = 0."""
+    from frictionrules import compare_relaxation
+    p = single(np.eye(3), [-1.0, 2.0, 0.0], 0.5)
+    assert np.all(p.associated().dilatancy == 1.0) and np.all(p.dilatancy == 0.0)
+    c = compare_relaxation(p, method="nsgs", tol=1e-13)
+    np.testing.assert_allclose(c.associated.r, [1.6, -0.8, 0.0], atol=1e-10)
+    assert c.dissipation_coulomb == pytest.approx(0.75, rel=1e-10)
+    assert c.dissipation_associated == pytest.approx(0.0, abs=1e-10)
+    assert c.friction_work_associated == pytest.approx(0.96, rel=1e-10)
+    assert c.normal_velocity_coulomb == pytest.approx(0.0, abs=1e-12)
+    assert c.normal_velocity_associated == pytest.approx(0.6, rel=1e-10)
+    assert c.sliding_coulomb == c.sliding_associated == 1
+    assert c.coulomb_error_of_associated == pytest.approx(fc3d_error(p, c.associated.r))
+    assert c.coulomb_error_of_associated > 0.01
+    assert c.warm_started.converged

@@ -29,7 +29,10 @@ from .laws import (
 from .asperities import FacetSet, TwoFlankAsperity, fit, from_heightmap, from_profile
 # multi-contact problems and FCLIB files; frictionrules.io is the FCLIB module
 from .io import read_fclib, write_fclib
-from .multicontact import FrictionContactProblem, Solution, solve
+from .multicontact import (ADMMOptions, FrictionContactProblem, IterationInfo, NewtonOptions,
+                           NSGSOptions, ProxOptions, RelaxationComparison, Solution, SolveRecord,
+                           compare_relaxation, solve, solve_many)
+from .parallel import SweepPoint, sweep
 # elastic-plastic contact with hardening and softening (§4)
 from .contact import ContactModel, ContactState, DriveResult, UpdateResult, drive
 # configuration softening: grains sliding over layers (§3)
@@ -79,6 +82,17 @@ __all__ = [
     "Solution",
     "read_fclib",
     "write_fclib",
+    "NSGSOptions",
+    "NewtonOptions",
+    "ProxOptions",
+    "ADMMOptions",
+    "IterationInfo",
+    "solve_many",
+    "SolveRecord",
+    "sweep",
+    "SweepPoint",
+    "compare_relaxation",
+    "RelaxationComparison",
     # elastic-plastic contact (§4)
     "ContactModel",
     "EllipsoidCap",

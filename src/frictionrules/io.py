@@ -30,7 +30,8 @@ import numpy as np
 from ._optional import require
 from .errors import FrictionRulesError
 
-__all__ = ["GlobalProblem", "read_fclib", "read_fclib_global", "write_fclib", "write_fclib_global"]
+__all__ = ["GlobalProblem", "read_fclib", "read_fclib_global", "write_fclib", "write_fclib_global",
+           "read_guess", "read_solution", "write_solution"]
 
 
 @dataclass(frozen=True)
@@ -242,7 +243,7 @@ def write_fclib(path, problem, *, solution=None, title: str = "", description: s
     """
     h5py = require("h5py", extra="hdf5")
 
-    from ._atomic import atomic_path
+    from ._output import atomic_path
     mu = problem.coulomb_mu()
     with atomic_path(path) as tmp, h5py.File(tmp, "w") as h5:
         g = "fclib_local"
@@ -259,7 +260,7 @@ def write_fclib_global(path, problem: GlobalProblem, *, solution=None) -> Path:
     """Write a :class:`GlobalProblem` (``/fclib_global``, M and H in CSC) atomically."""
     h5py = require("h5py", extra="hdf5")
 
-    from ._atomic import atomic_path
+    from ._output import atomic_path
     with atomic_path(path) as tmp, h5py.File(tmp, "w") as h5:
         g = "fclib_global"
         h5[f"{g}/spacedim"] = np.array([3], np.int32)
@@ -271,3 +272,54 @@ def write_fclib_global(path, problem: GlobalProblem, *, solution=None) -> Path:
         _write_info(h5, g, problem.title, problem.description)
         _write_solution(h5, solution)
     return Path(path)
+
+
+# ---- warm starts and saved solutions ---------------------------------------------------------
+def read_guess(path, number: int = 1):
+    """The reactions ``/guesses/<number>/r`` of an FCLIB file (a simulation's previous step),
+    or None when the file holds no guess.
+
+    Raises
+    ------
+    FrictionRulesError
+        A guess of the wrong size or with non-finite entries (the message names it).
+    """
+    with _open(path) as h5:
+        group = f"guesses/{int(number)}/r"
+        if group not in h5:
+            return None
+        g = "fclib_local" if "fclib_local" in h5 else "fclib_global"
+        size = None
+        if f"{g}/vectors/mu" in h5:
+            size = 3 * h5[f"{g}/vectors/mu"].shape[0]
+        return _dataset(h5, group, size=size)
+
+
+def write_solution(path, solution, *, source: str = "", tol: float | None = None) -> Path:
+    """Write a :class:`~frictionrules.Solution` to an HDF5 file atomically: ``/solution/r``,
+    ``/solution/u`` and attributes ``error, iterations, converged, reason, method, seconds``
+    (and ``source``, ``tol`` when given). :func:`read_solution` reads it back, and
+    ``frictionrules solve --warm-start`` starts from it.
+    """
+    import h5py
+
+    from ._output import atomic_path
+    with atomic_path(path) as tmp, h5py.File(tmp, "w") as h5:
+        _write_solution(h5, solution)
+        attrs = h5["solution"].attrs
+        attrs["error"], attrs["iterations"] = float(solution.error), int(solution.iterations)
+        attrs["converged"], attrs["reason"] = bool(solution.converged), str(solution.reason)
+        attrs["method"], attrs["seconds"] = str(solution.method), float(solution.seconds)
+        attrs["source"] = str(source)
+        if tol is not None:
+            attrs["tol"] = float(tol)
+        from ._output import provenance
+        attrs["software"] = provenance()["software"]
+    return Path(path)
+
+
+def read_solution(path, size: int | None = None) -> np.ndarray:
+    """The reactions ``/solution/r`` of a file written by :func:`write_solution` (or any FCLIB
+    file's ``/solution/r``); ``size`` checks their number."""
+    with _open(path) as h5:
+        return _dataset(h5, "solution/r", size=size)

@@ -1,60 +1,214 @@
-"""``frictionrules solve FILE.hdf5 | DIR``: solve FCLIB problems and print or tabulate the results."""
+"""``frictionrules solve FILE.hdf5 | DIR``: solve FCLIB problems and print or tabulate the results.
+
+A thin layer over :func:`frictionrules.solve_many`: a folder run writes its table as results
+arrive and resumes from it; ``--workers``/``--scheduler`` spread the problems over a local Dask
+cluster or a running one.
+"""
 
 from __future__ import annotations
 
-CSV_HEADER = "file,contacts,method,iterations,error,converged,seconds"
+import argparse
+
+METHOD_CHOICES = ("auto", "nsgs", "newton", "prox", "admm")
+
+
+def _positive_int(text):
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"invalid integer value: {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"{value} violates >= 1")
+    return value
+
+
+def _float_type(strict: bool):
+    """An argparse type: a finite number, > 0 (``strict``) or >= 0."""
+    def parse(text):
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"invalid number: {text!r}") from None
+        if not (value > 0 if strict else value >= 0) or value == float("inf"):
+            raise argparse.ArgumentTypeError(f"{value} violates: finite and {'>' if strict else '>='} 0")
+        return value
+    return parse
+
+
+_positive_float, _tolerance = _float_type(True), _float_type(False)
 
 
 def register(sub) -> None:
-    p = sub.add_parser("solve", help="solve FCLIB frictional contact problems",
-                       description="Read an FCLIB HDF5 file (or every *.hdf5 in a folder), solve it "
-                                   "and print contacts, iterations, error (Siconos' measure) and time.")
+    p = sub.add_parser(
+        "solve", help="solve FCLIB frictional contact problems",
+        description="Read an FCLIB HDF5 file (or every *.hdf5 in a folder), solve it and print "
+                    "contacts, method, iterations, error (Siconos' measure), time and, when not "
+                    "converged, why. Exit code 0 when every problem converged, 1 otherwise, 2 on "
+                    "bad input.")
     p.add_argument("path", metavar="FILE_OR_DIR", help="an FCLIB .hdf5 file or a folder of them")
-    p.add_argument("--method", default="nsgs", choices=("nsgs", "newton", "prox"),
-                   help="solver (default: nsgs)")
-    p.add_argument("--tol", type=float, default=1e-8, help="tolerance on the error (default: 1e-8)")
-    p.add_argument("--max-iter", type=int, default=None, help="iteration limit (default: per method)")
-    p.add_argument("--csv", metavar="OUT.csv", help="also write the table to this CSV file")
+    p.add_argument("--method", default="auto", choices=METHOD_CHOICES,
+                   help="solver (default: auto, chosen from the problem's size and structure)")
+    p.add_argument("--tol", type=_tolerance, default=1e-8, help="tolerance on the error (default: 1e-8)")
+    p.add_argument("--max-iter", type=_positive_int, default=None,
+                   help="iteration limit (default: per method, see docs/multicontact.md)")
+    p.add_argument("--time-limit", type=_positive_float, default=None, metavar="SECONDS",
+                   help="wall-clock limit per problem; a problem stopped by it is reported as not "
+                        "converged (reason time_limit)")
+    p.add_argument("--csv", metavar="OUT.csv",
+                   help="also write the table to this CSV file, after every problem; a folder run "
+                        "skips the files this table already lists for the same method (resume)")
+    p.add_argument("--restart", action="store_true",
+                   help="solve every file again even if --csv already lists it")
+    p.add_argument("--save-solution", metavar="PATH",
+                   help="write the solution (r, u, error, reason) as HDF5: to PATH for a file, or "
+                        "into the folder PATH (one file per problem, named like it) for a folder")
+    p.add_argument("--warm-start", nargs="?", const="guess", default=None, metavar="SOLUTION",
+                   help="start from the file's /guesses/1/r (no value), or from a solution saved by "
+                        "--save-solution (a file, or a folder of them)")
+    where = p.add_mutually_exclusive_group()
+    where.add_argument("--workers", type=_positive_int, default=None, metavar="N",
+                       help="solve a folder on a local Dask cluster of N worker processes "
+                            "(needs the extra frictionrules[dask])")
+    where.add_argument("--scheduler", metavar="ADDRESS",
+                       help="solve a folder on the Dask cluster whose scheduler is at ADDRESS "
+                            "(tcp://host:8786)")
     p.set_defaults(run=run)
+
+
+def _check_output(option: str, path, suffixes) -> None:
+    """Fail before any work if ``path`` has the wrong suffix or its folder cannot be written
+    (``check_output`` of the output layer, then a probe file: /proc passes the permission test
+    but refuses files)."""
+    import os
+    import tempfile
+    from pathlib import Path
+
+    from .._output import check_output
+    from ..errors import FrictionRulesError
+    path = check_output(path, suffixes, name=option)
+    folder = path.parent
+    while not folder.exists() and folder != folder.parent:
+        folder = folder.parent
+    try:
+        fd, probe = tempfile.mkstemp(dir=folder, prefix=".frictionrules-probe-")
+        os.close(fd)
+        os.unlink(probe)
+    except OSError as exc:
+        raise FrictionRulesError(f"{option} = {str(Path(path))!r}: cannot write in {str(folder)!r} "
+                                 f"({exc.strerror or type(exc).__name__})") from None
+
+
+def _row(rec) -> str:
+    if rec.reason == "bad input":
+        return f"{rec.name:45s} error: {rec.message}"
+    flag = "" if rec.converged else f"  (not converged: {rec.reason})"
+    method = rec.solution.method if rec.solution is not None else rec.method
+    return (f"{rec.name:45s} {rec.contacts:8d} {method:>11s} {rec.iterations:7d} "
+            f"{rec.error:9.2e} {rec.seconds:8.3f}{flag}" + ("  (from --csv)" if rec.resumed else ""))
 
 
 def run(args) -> int:
     from pathlib import Path
 
-    from .._atomic import write_text
+    from ..parallel import dask_client, local_cluster
+    from .._progress import Progress
     from ..errors import FrictionRulesError
     from ..io import read_fclib
-    from ..multicontact import FrictionContactProblem, solve
+    from ..multicontact import FrictionContactProblem, solve, solve_many
 
     path = Path(args.path)
-    files = sorted(path.glob("*.hdf5")) if path.is_dir() else [path]
-    if path.is_dir() and not files:
-        raise FrictionRulesError(f"folder {path} holds no *.hdf5 file")
+    folder = path.is_dir()
+    if not folder and not path.is_file():
+        raise FrictionRulesError(f"{path}: no such FCLIB file or folder")
+    if args.csv:
+        _check_output("--csv", args.csv, (".csv",))
+    if args.save_solution:
+        if folder:
+            _check_output("--save-solution", Path(args.save_solution) / "probe.hdf5", (".hdf5",))
+        else:
+            _check_output("--save-solution", args.save_solution, (".hdf5", ".h5"))
+    if args.warm_start not in (None, "guess") and not Path(args.warm_start).exists():
+        raise FrictionRulesError(f"--warm-start {args.warm_start}: no such file or folder")
+    if (args.workers or args.scheduler) and not folder:
+        raise FrictionRulesError("--workers/--scheduler: constraint: a folder of problems")
+    if args.restart and args.csv and Path(args.csv).exists():
+        Path(args.csv).unlink()
+    if not folder:
+        read_fclib(path)                    # a bad file is bad input: one line, exit 2
     # load the compiled kernels once, so that the printed times are the solvers' own
     solve(FrictionContactProblem([[1.0, 0, 0], [0, 1, 0], [0, 0, 1]], [-1.0, 2.0, 0.0], [0.5]),
-          method=args.method)
-    rows = [CSV_HEADER]
-    print(f"{'file':45s} {'contacts':>8s} {'method':>7s} {'iter':>7s} {'error':>9s} {'time/s':>8s}")
-    failed = 0
-    for f in files:
-        try:
-            problem = read_fclib(f)
-        except FrictionRulesError as err:
-            if not path.is_dir():
-                raise
-            failed += 1                     # one bad file in a folder: report it, go on
-            print(f"{f.name:45s} error: {err}")
-            rows.append(f"{f.name},,{args.method},,,0,")
+          method=args.method if args.method != "auto" else "nsgs")
+
+    print(f"{'file':45s} {'contacts':>8s} {'method':>11s} {'iter':>7s} {'error':>9s} {'time/s':>8s}",
+          flush=True)
+    with Progress("solve", unit="problems") as progress:
+        finished = [0]
+
+        def on_result(rec):
+            finished[0] += 1
+            progress.phase("")
+            progress(finished[0])
+            print(_row(rec), flush=True)
+
+        save = args.save_solution
+        kwargs = dict(method=args.method, tol=args.tol, max_iter=args.max_iter,
+                      time_limit=args.time_limit, warm_start=args.warm_start, out=args.csv,
+                      on_result=on_result)
+        if not folder:
+            records = _solve_file(path, kwargs, progress, save)
+        elif args.workers or args.scheduler:
+            context = local_cluster(args.workers) if args.workers else dask_client(args.scheduler)
+            with context as client:
+                records = solve_many(path, executor=client, save_solutions=save, **kwargs)
         else:
-            s = solve(problem, method=args.method, tol=args.tol, max_iter=args.max_iter)
-            flag = "" if s.converged else "  (not converged)"
-            failed += not s.converged
-            print(f"{f.name:45s} {problem.nc:8d} {args.method:>7s} {s.iterations:7d} "
-                  f"{s.error:9.2e} {s.seconds:8.3f}{flag}")
-            rows.append(f"{f.name},{problem.nc},{args.method},{s.iterations},{s.error:.3e},"
-                        f"{int(s.converged)},{s.seconds:.6f}")
-        if args.csv:                        # rewritten atomically after every file:
-            write_text(args.csv, "\n".join(rows) + "\n")   # an interrupted run keeps its rows
+            records = solve_many(path, save_solutions=save, **_with_progress(kwargs, progress))
+        for rec in records:
+            if rec.resumed:
+                print(_row(rec))
+        progress.close(summary_line(records))
     if args.csv:
         print(f"wrote {args.csv}")
-    return 1 if failed else 0
+    if save and not folder:
+        print(f"wrote {save}")
+    return 0 if all(r.converged for r in records) else 1
+
+
+def summary_line(records) -> str:
+    """One line: how many problems converged, failed or were unreadable, and the time."""
+    solved = [r for r in records if r.reason != "bad input"]
+    conv = sum(r.converged for r in solved)
+    bad = len(records) - len(solved)
+    seconds = sum(r.seconds for r in records if not r.resumed)
+    resumed = sum(r.resumed for r in records)
+    return (f"{conv} converged, {len(solved) - conv} not converged, {bad} unreadable" + (f", {resumed} from the earlier table" if resumed else "")
+            + f"; {seconds:.2f} s of solver time")
+
+
+def _with_progress(kwargs, progress):
+    """The serial run's keyword arguments: on a terminal its problems report their iterations."""
+    if not progress.terminal:
+        return kwargs
+
+    import time
+    last = [0.0]
+
+    def show(name, info):                   # redrawn at most 4 times a second
+        if time.monotonic() - last[0] >= 0.25:
+            last[0] = time.monotonic()
+            progress.phase(f"{name}: {info.method} iteration {info.iteration}, error {info.error:.2e}")
+    return dict(kwargs, callback=show)
+
+
+def _solve_file(path, kwargs, progress, save):
+    """One file, solved here; ``save`` receives its solution."""
+    from ..errors import FrictionRulesError
+    from ..io import write_solution
+    from ..multicontact import solve_many
+    records = solve_many([path], **_with_progress(dict(kwargs, on_result=None), progress))
+    rec = records[0]
+    if rec.reason == "bad input":           # e.g. a warm start of the wrong size: exit 2
+        raise FrictionRulesError(rec.message)
+    kwargs["on_result"](rec)
+    if save and rec.solution is not None:
+        write_solution(save, rec.solution, source=rec.name, tol=kwargs["tol"])
+    return records

@@ -232,13 +232,14 @@ def diagonal_blocks(indptr, indices, data, nc):
 
 
 @njit(cache=True)
-def nsgs(indptr, indices, data, D, q, mu, dil, r, tol, max_iter, hist_err, hist_it, norm_q):
+def nsgs(indptr, indices, data, D, q, mu, dil, r, tol, max_iter, hist_err, hist_it, norm_q, max_interval):
     """Non-smooth Gauss–Seidel sweeps over the contacts with :func:`local_solve`.
 
     Updates ``r`` in place. The full error (:func:`fc3d_error_kernel`, one product with W) is
     evaluated after the sweeps where convergence may have happened: when the relative change of
     ``r`` in the sweep is below ``tol``, and otherwise at intervals predicted from the observed
-    linear rate (half the predicted number of sweeps to ``tol``, at most 16 sweeps apart), and
+    linear rate (half the predicted number of sweeps to ``tol``, at most ``max_interval`` sweeps
+    apart), and
     after the last sweep. ``hist_err[k]``, ``hist_it[k]``: k-th evaluated error and its sweep.
     Returns ``(sweeps, error, evaluations)``.
     """
@@ -275,7 +276,7 @@ def nsgs(indptr, indices, data, D, q, mu, dil, r, tol, max_iter, hist_err, hist_
         if nh >= 2 and 0.0 < err < hist_err[nh - 2]:
             rate = np.log(err / hist_err[nh - 2]) / (hist_it[nh - 1] - hist_it[nh - 2])
             predicted = np.log(tol / err) / rate
-            step = int(min(16.0, max(1.0, 0.5 * predicted)))
+            step = int(min(float(max_interval), max(1.0, 0.5 * predicted)))
         next_check = it + step
     return it, err, nh
 
@@ -413,3 +414,32 @@ def jacobian_csr(indptr, indices, data, B1, B2):
         for t in range(m):
             pos[cols[t]] = -1
     return jptr, jind, jdat
+
+
+# ---- ADMM: cone projections and De Saxcé's correction over all contacts ------------------------
+@njit(cache=True)
+def project_all(z, mu, out):
+    """``out_a = P_K(z_a)`` for every contact (:func:`project_cone`)."""
+    for a in range(mu.size):
+        i = 3 * a
+        out[i], out[i + 1], out[i + 2] = project_cone(z[i], z[i + 1], z[i + 2], mu[a])
+
+
+@njit(cache=True)
+def project_dual_all(z, mu, out):
+    r"""``out_a = P_{K^*}(z_a)`` (Moreau: :math:`P_{K^*}(z) = z + P_K(-z)`, :math:`K^*` the
+    cone of coefficient :math:`1/\mu`)."""
+    for a in range(mu.size):
+        i = 3 * a
+        p0, p1, p2 = project_cone(-z[i], -z[i + 1], -z[i + 2], mu[a])
+        out[i], out[i + 1], out[i + 2] = z[i] + p0, z[i + 1] + p1, z[i + 2] + p2
+
+
+@njit(cache=True)
+def desaxce_shift(u, mu, dil, out):
+    r""":math:`s_a = \mu_a (1 - d_a) |u_{aT}|\, e_N`: the modified velocity is :math:`u + s`."""
+    for a in range(mu.size):
+        i = 3 * a
+        out[i] = mu[a] * (1.0 - dil[a]) * np.sqrt(u[i + 1] ** 2 + u[i + 2] ** 2)
+        out[i + 1] = 0.0
+        out[i + 2] = 0.0

@@ -196,6 +196,24 @@ class FrictionContactProblem:
                                      "isotropic) can be written to FCLIB")
         return self.mu_bar.copy()
 
+    def associated(self) -> "FrictionContactProblem":
+        r"""The associated (dilatant, convex) relaxation: every contact with the sliding rule
+        normal to its own cone, ``g = f`` (the paper's (1.6): :math:`V_z = -\dot\lambda\mu`
+        in the paper's sign, the block separating at :math:`u_N = \bar\mu|\tilde u_T|`).
+
+        Same ``W``, ``q``, cones and frames, dilatancy ratio ``d = 1`` everywhere, so that
+        :math:`\hat u = u` and the problem is the convex cone complementarity problem
+        :math:`K \ni r \perp W r + q \in K^*` (the optimality conditions of
+        :math:`\min \tfrac12 r^T W r + q^T r`, :math:`r \in K`, for a symmetric W) that
+        convex solvers and most physics engines solve. ``laws`` keeps the given laws;
+        ``dilatancy`` is what the solvers use.
+        """
+        import copy
+        out = copy.copy(self)
+        out.dilatancy = np.ones(self.nc)
+        out.title = f"{self.title} (associated)" if self.title else "associated"
+        return out
+
     def velocity(self, r) -> np.ndarray:
         """:math:`u = W r + q`."""
         return self.W @ np.asarray(r, dtype=float) + self.q
@@ -237,12 +255,18 @@ class Solution:
         Final error (:func:`~frictionrules.multicontact.fc3d_error`, Siconos' measure).
     iterations : int
     converged : bool
-        ``error <= tol``.
+        ``error <= tol`` (and the reactions bounded: see ``reason``).
+    reason : str
+        Why the run stopped: ``"converged"``, ``"max_iter"``, ``"time_limit"``,
+        ``"callback"`` (the callback asked to stop) or ``"unbounded"`` (the reactions grow
+        without bound: no bounded solution, an infeasible problem). Only ``"converged"`` has
+        ``converged`` true.
     history : array
         Error after the iterations ``history_iterations`` (every iteration for ``newton`` and
         ``prox``; the sweeps where NSGS evaluated it).
     history_iterations : array of int
     method : str
+        The method that ran (for ``"auto"``, the stages joined by ``+``, e.g. ``"nsgs+prox"``).
     seconds : float
         Wall time of the solver (compilation of the kernels excluded when cached).
     """
@@ -256,3 +280,4 @@ class Solution:
     history_iterations: np.ndarray = field(repr=False, default_factory=lambda: np.zeros(0, int))
     method: str = ""
     seconds: float = 0.0
+    reason: str = ""

@@ -1,0 +1,156 @@
+"""The peers of ``benchmarks/fclib.py``: Siconos and Pinocchio, each run in a subprocess of its
+own Python on the same W, q, mu, its answer read back and measured with our error.
+
+* Siconos 4.4 (Debian ``python3-siconos python3-scipy`` for ``/usr/bin/python3``): NSGS,
+  NSN_AC, PROX and ADMM of ``fc3d_driver``, fed W as ``SBM_from_csparse(3, W_csc)``.
+* Pinocchio 4.1 (``pip install pin scipy`` in a separate venv, named by ``--pinocchio-python``
+  or ``$PINOCCHIO_PYTHON``): ``ADMMConstraintSolver`` on ``DelassusOperatorSparse`` and
+  ``PGSConstraintSolver`` on ``DelassusOperatorDense`` (PGS takes a dense Delassus only), with
+  ``solve_ncp=True`` (De Saxcé's correction: the exact Coulomb problem), one
+  ``PointContactConstraintModel`` per contact carrying its mu; components reordered to
+  Pinocchio's ``(T1, T2, N)``.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import resource
+import subprocess
+from pathlib import Path
+
+import numpy as np
+
+SYSTEM_PYTHON = "/usr/bin/python3"
+
+#: (solver, iteration limit) of each peer; Pinocchio's PGS only up to this many unknowns (its
+#: dense Delassus needs 8 n^2 bytes).
+SICONOS = (("NSGS", 100000), ("NSN_AC", 2000), ("PROX", 1000), ("ADMM", 20000))
+PINOCCHIO = (("ADMM", 20000), ("PGS", 100000))
+PGS_MAX_UNKNOWNS = 6000
+
+SICONOS_RUNNER = r"""
+import json, resource, sys, time
+import numpy as np
+import scipy.sparse as sp
+import siconos.numerics as sn
+data = np.load(sys.argv[1])
+solver, max_iter, tol = sys.argv[2], int(sys.argv[3]), float(sys.argv[4])
+n = int(data["n"])
+W = sp.csc_matrix((data["x"], data["i"].astype(np.int64), data["p"].astype(np.int64)), shape=(n, n))
+q, mu = data["q"], data["mu"]
+status, sbm = sn.SBM_from_csparse(3, W)
+problem = sn.FrictionContactProblem(3, sbm, q, mu)
+best = None
+for _ in range(5):
+    options = sn.SolverOptions(getattr(sn, "SICONOS_FRICTION_3D_" + solver))
+    options.iparam[sn.SICONOS_IPARAM_MAX_ITER] = max_iter
+    options.dparam[sn.SICONOS_DPARAM_TOL] = tol
+    r, u = np.zeros(q.size), np.zeros(q.size)
+    t0 = time.perf_counter()
+    info = sn.fc3d_driver(problem, r, u, options)
+    seconds = time.perf_counter() - t0
+    if best is None or seconds < best[0]:
+        best = (seconds, info, int(options.iparam[sn.SICONOS_IPARAM_ITER_DONE]),
+                float(options.dparam[sn.SICONOS_DPARAM_RESIDU]), r)
+    if seconds > 0.2:
+        break
+np.save(sys.argv[5], best[4])
+print(json.dumps({"info": int(best[1]), "iterations": best[2], "own_error": best[3], "seconds": best[0],
+                  "peak_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}))
+"""
+
+PINOCCHIO_RUNNER = r"""
+import json, resource, sys, time
+import numpy as np
+import scipy.sparse as sp
+import pinocchio as pin
+data = np.load(sys.argv[1])
+solver, max_iter, tol = sys.argv[2], int(sys.argv[3]), float(sys.argv[4])
+n = int(data["n"]); nc = n // 3
+W = sp.csc_matrix((data["x"], data["i"].astype(np.int64), data["p"].astype(np.int64)), shape=(n, n))
+q, mu = data["q"], data["mu"]
+perm = np.array([[3 * a + 1, 3 * a + 2, 3 * a] for a in range(nc)]).ravel()   # (T1, T2, N)
+Wp = sp.csc_matrix(W.tocsr()[perm][:, perm])
+model = pin.Model()
+model.addJoint(0, pin.JointModelFreeFlyer(), pin.SE3.Identity(), "body")
+models, datas = pin.StdVec_ConstraintModel(), pin.StdVec_ConstraintData()
+for a in range(nc):
+    cm = pin.PointContactConstraintModel(model, 1)
+    cm.setFriction(float(mu[a]))
+    c = pin.ConstraintModel(cm)
+    models.append(c)
+    datas.append(c.createData())
+best = None
+for _ in range(5):
+    if solver == "ADMM":
+        G = pin.DelassusOperatorSparse(Wp)
+        s, st, res = pin.ADMMConstraintSolver(n), pin.ADMMSolverSettings(), pin.ADMMSolverResult()
+    else:
+        G = pin.DelassusOperatorDense(Wp.toarray())
+        s, st, res = pin.PGSConstraintSolver(n), pin.PGSSolverSettings(), pin.PGSSolverResult()
+    st.max_iterations = max_iter
+    st.absolute_feasibility_tol = st.relative_feasibility_tol = tol
+    st.absolute_complementarity_tol = st.relative_complementarity_tol = tol
+    st.solve_ncp = True
+    g = q[perm].copy()
+    t0 = time.perf_counter()
+    ok = s.solve(G, g, models, datas, st, res)
+    seconds = time.perf_counter() - t0
+    lam = np.asarray(res.retrieveConstraintImpulses()).ravel()
+    r = np.empty(n)
+    r[perm] = lam
+    if best is None or seconds < best[0]:
+        best = (seconds, bool(ok), int(res.iterations), r)
+    if seconds > 0.2:
+        break
+np.save(sys.argv[5], best[3])
+print(json.dumps({"info": 0 if best[1] else 1, "iterations": best[2], "own_error": float("nan"),
+                  "seconds": best[0], "peak_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}))
+"""
+
+
+def pinocchio_python(arg=None):
+    """The Python that imports pinocchio (argument, ``$PINOCCHIO_PYTHON``), or None."""
+    candidate = arg or os.environ.get("PINOCCHIO_PYTHON")
+    if candidate and Path(candidate).exists() and _imports(candidate, "pinocchio, scipy.sparse"):
+        return candidate
+    return None
+
+
+def siconos_python():
+    return SYSTEM_PYTHON if Path(SYSTEM_PYTHON).exists() and _imports(SYSTEM_PYTHON, "siconos.numerics, scipy.sparse") \
+        else None
+
+
+def _imports(python: str, modules: str) -> bool:
+    return subprocess.run([python, "-c", f"import {modules}"], capture_output=True).returncode == 0
+
+
+def save_problem(problem, path: Path) -> Path:
+    import scipy.sparse as sp
+    W = sp.csc_matrix(problem.W)
+    W.sort_indices()
+    np.savez(path, x=W.data, i=W.indices.astype(np.int32), p=W.indptr.astype(np.int32), n=W.shape[0],
+             q=problem.q, mu=problem.mu_bar)
+    return path
+
+
+def run_peer(python: str, runner: str, data: Path, solver: str, max_iter: int, tol: float, tmp: Path,
+             timeout: float) -> dict:
+    """One peer run in a subprocess: ``{info, iterations, seconds, peak_mb, r}``; ``r`` is None
+    (and ``info`` says why) when it crashed or ran out of time."""
+    rfile = tmp / "r.npy"
+    rfile.unlink(missing_ok=True)
+    try:
+        out = subprocess.run([python, "-c", runner, str(data), solver, str(max_iter), str(tol), str(rfile)],
+                             capture_output=True, text=True, timeout=timeout)
+    except subprocess.TimeoutExpired:
+        return {"info": "timeout", "iterations": 0, "seconds": float("inf"), "peak_mb": float("nan"), "r": None}
+    if out.returncode != 0 or not out.stdout.strip():
+        peak = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024
+        return {"info": "crash", "iterations": 0, "seconds": float("inf"), "peak_mb": peak, "r": None,
+                "message": (out.stderr.strip().splitlines() or ["?"])[-1]}
+    res = json.loads(out.stdout.strip().splitlines()[-1])
+    res["r"] = np.load(rfile)
+    return res

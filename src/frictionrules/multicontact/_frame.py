@@ -1,0 +1,96 @@
+r"""What every solver shares: the problem as kernel arrays, and the monitor of a run.
+
+:class:`_Frame` holds the problem in its circular frame (see :mod:`.problem`) as the arrays
+the Numba kernels take. :class:`_Monitor` records the error after each iteration, calls the
+user's callback, and decides when a run stops and why (:data:`REASONS`).
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from .problem import FrictionContactProblem
+
+#: Why a run stopped (``Solution.reason``); only ``"converged"`` means converged.
+REASONS = ("converged", "max_iter", "time_limit", "callback", "unbounded", "stalled")
+
+#: A run whose reactions grow past ``UNBOUNDED`` times the scale |q| / mean|diag W| stops as
+#: ``"unbounded"``: no bounded solution is being approached (an infeasible problem, where
+#: Siconos' relative error can be pushed below any tolerance by letting |r| grow). On the
+#: shared FCLIB files the solutions have |r| mean|diag W| / |q| between 0.03 and 45.
+UNBOUNDED = 1e6
+
+
+class _Frame:
+    """The problem in its circular frame, as arrays the kernels take."""
+
+    def __init__(self, problem: FrictionContactProblem):
+        Wt, qt, P = problem._solver_frame()
+        self.W, self.q, self.P = Wt, np.ascontiguousarray(qt, dtype=float), P
+        self.mu = np.ascontiguousarray(problem.mu_bar, dtype=float)
+        self.d = np.ascontiguousarray(problem.dilatancy, dtype=float)
+        self.nc = problem.nc
+        self.norm_q = float(np.linalg.norm(self.q))
+        self.csr = (self.W.indptr.astype(np.int32), self.W.indices.astype(np.int32), self.W.data)
+        diag = np.abs(self.W.diagonal())
+        self.mean_diag = float(np.mean(diag[diag > 0])) if np.any(diag > 0) else 1.0
+        self.r_bound = UNBOUNDED * max(self.norm_q, np.finfo(float).tiny) / self.mean_diag
+
+    def error(self, r, u=None) -> float:
+        """Siconos' error of ``r`` (``u = W r + q`` when not given): see :mod:`.error`."""
+        from . import _kernels as K
+        u = self.W @ r + self.q if u is None else u
+        e = np.sqrt(K.error_sum(r, u, self.mu, self.d))
+        scale = max(self.norm_q, np.linalg.norm(r), np.linalg.norm(u))
+        return e / scale if scale > np.finfo(float).eps else e
+
+    def rho(self, W=None):
+        r"""Per-contact Alart–Curnier weights :math:`\rho_a = 3/\mathrm{tr}\,W_{aa}`."""
+        from . import _kernels as K
+        W = self.W if W is None else W
+        D = K.diagonal_blocks(W.indptr.astype(np.int32), W.indices.astype(np.int32), W.data, self.nc)
+        tr = np.abs(np.trace(D, axis1=1, axis2=2)) / 3.0
+        return np.where(tr > 0, 1.0 / np.where(tr > 0, tr, 1.0), 1.0)
+
+
+class _Monitor:
+    """Error history, callback, time limit and the stop decision of one run.
+
+    ``record(method, iteration, r, err)`` is called by a solver after each iteration (NSGS:
+    after each sweep where it evaluated the error); it returns True when the run must stop,
+    with ``reason`` set. The caller checks ``err <= tol`` and ``max_iter`` itself.
+    """
+
+    def __init__(self, fr: _Frame, tol: float, time_limit, callback):
+        self.fr, self.tol, self.time_limit, self.callback = fr, tol, time_limit, callback
+        self.t0 = time.perf_counter()
+        self.errors: list[float] = []
+        self.iterations: list[int] = []
+        self.offset = 0          # iterations of the earlier stages of a chained run
+        self.reason = ""
+
+    def elapsed(self) -> float:
+        return time.perf_counter() - self.t0
+
+    def out_of_time(self) -> bool:
+        return self.time_limit is not None and self.elapsed() >= self.time_limit
+
+    def record(self, method: str, iteration: int, r, err: float) -> bool:
+        self.errors.append(float(err))
+        self.iterations.append(self.offset + int(iteration))
+        stop = False
+        if self.callback is not None:
+            from ._options import IterationInfo
+            stop = bool(self.callback(IterationInfo(method, self.offset + int(iteration), float(err),
+                                                    self.elapsed())))
+        if err <= self.tol:
+            self.reason = "converged"
+        elif not np.isfinite(err) or np.linalg.norm(r) > self.fr.r_bound:
+            self.reason = "unbounded"
+        elif stop:
+            self.reason = "callback"
+        elif self.out_of_time():
+            self.reason = "time_limit"
+        return bool(self.reason)

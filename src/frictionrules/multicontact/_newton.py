@@ -1,0 +1,158 @@
+r"""Semismooth Newton on the Alart–Curnier function (``method="newton"``; the inner solver of
+``"prox"``).
+
+:func:`._kernels.alart_curnier` gives :math:`\Phi` and the blocks of the generalized Jacobian
+:math:`J = B_1 + B_2 W` (the normal part uses De Saxcé's modified normal velocity
+:math:`u_N - \mu d|u_T|`, so a non-associated law is one equation). J is assembled sparse and
+solved by LU (LAPACK dense or SuperLU sparse) with iterative refinement; non-monotone Armijo
+backtracking on :math:`\tfrac12|\Phi|^2`; Levenberg–Marquardt directions while the iteration
+stalls (singular J); a projection step when the line search fails.
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+
+from ._frame import _Frame, _Monitor
+from ._options import NewtonOptions
+
+
+def _refined(solve, J, b, steps: int, rtol: float):
+    """``solve(b)`` improved by up to ``steps`` steps of iterative refinement; None if the
+    residual stays above ``rtol |b|`` or the result is not finite."""
+    norm_b = np.linalg.norm(b)
+    x = solve(b)
+    for _ in range(steps + 1):
+        if not np.all(np.isfinite(x)):
+            return None
+        res = b - J @ x
+        if np.linalg.norm(res) <= rtol * norm_b:
+            return x
+        x = x + solve(res)
+    return None
+
+
+def newton_direction(JT, b, eye, opts: NewtonOptions, lm: bool = False):
+    r"""The direction ``x`` of a Newton step ``J x = b``, given ``J^T`` in CSC (J in CSR).
+
+    ``lm=False``: by LU with iterative refinement. Up to ``opts.dense_max`` unknowns, or when
+    J is denser than ``opts.dense_fill``, LAPACK's dense LU (SuperLU's set-up costs more
+    there); otherwise SuperLU with the symmetric minimum-degree ordering on diagonal pivots in
+    symmetric mode (J has the symmetric sparsity of W plus its diagonal, nonzero in every
+    contact state; half the fill of COLAMD on the towers, and a third of the factorization
+    time of the unsymmetric mode on the 1,812-contact sphere pile), then with partial
+    pivoting. A solve counts when its refined residual is within ``opts.direction_rtol |b|``
+    (refinement recovers the digits an ill-conditioned J loses: without it, the pile's
+    directions failed at 2.5e-10 and fell back to the slow Levenberg–Marquardt system).
+    When none does (J singular), or with ``lm=True``, the Levenberg–Marquardt direction
+    :math:`x = \arg\min |J x - b|^2 + \lambda |x|^2`, :math:`\lambda = ` ``opts.lm_weight``
+    :math:`|b|`, from :math:`(J^T J + \lambda I) x = J^T b`.
+
+    J is singular or nearly so where W is rank-deficient (more contacts than the bodies'
+    degrees of freedom: the periodic box, stacks, towers) and contacts stick. With LU
+    directions only, the iteration stagnates on LMGC_100_PR_PerioBox (error 4e-2 after 300
+    iterations); switching to Levenberg–Marquardt while it stalls gives 6e-9 in 122.
+    """
+    import scipy.sparse.linalg as spla
+    norm_b = np.linalg.norm(b)
+    if norm_b == 0.0:
+        return np.zeros_like(b)
+    lam = opts.lm_weight * norm_b
+    n = b.shape[0]
+    if n <= opts.dense_max or JT.nnz > opts.dense_fill * n * n:
+        import scipy.linalg as sla
+        J = JT.toarray().T
+        if not lm:
+            try:
+                with warnings.catch_warnings():  # a singular J is handled below
+                    warnings.simplefilter("ignore", sla.LinAlgWarning)
+                    lu = sla.lu_factor(J, check_finite=False)
+                x = _refined(lambda v: sla.lu_solve(lu, v, check_finite=False), J, b,
+                             opts.refinement_steps, opts.direction_rtol)
+                if x is not None:
+                    return x
+            except (np.linalg.LinAlgError, ValueError):
+                pass
+        try:
+            return np.linalg.solve(J.T @ J + lam * np.eye(n), J.T @ b)
+        except np.linalg.LinAlgError:       # lam below J^T J's rounding: least squares
+            return np.linalg.lstsq(J, b, rcond=None)[0]
+    J = JT.T
+    attempts = ({"permc_spec": "MMD_AT_PLUS_A", "diag_pivot_thresh": 0.0, "options": {"SymmetricMode": True}},
+                {})
+    for options in () if lm else attempts:
+        try:
+            lu = spla.splu(JT, **options)
+        except RuntimeError:
+            continue
+        x = _refined(lambda v: lu.solve(v, trans="T"), J, b, opts.refinement_steps, opts.direction_rtol)
+        if x is not None:
+            return x
+    try:
+        A = (JT @ J + lam * eye).tocsc()
+        return spla.splu(A, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0).solve(JT @ b)
+    except RuntimeError:
+        return b
+
+
+def newton_steps(fr: _Frame, W, q, r, rho, stop, max_iter: int, on_iter, opts: NewtonOptions):
+    r"""Semismooth Newton iterations on ``(W, q)`` from ``r`` until ``stop(r, u)`` or ``max_iter``.
+
+    Non-monotone Armijo backtracking on :math:`\tfrac12|\Phi|^2`; a projection step when it
+    fails. While the merit has not halved over the last ``opts.stall_iterations`` iterations
+    (a singular or ill-conditioned J), the direction is the Levenberg–Marquardt one (see
+    :func:`newton_direction`); once it falls again, Newton's. (Kept for the whole run instead,
+    it slows spheres-in-a-box from 41 to 120 iterations.) ``on_iter(k, r, u)`` is called after
+    iteration k; a true return stops. Returns ``(r, iterations)``.
+    """
+    import scipy.sparse as sp
+
+    from . import _kernels as K
+    n = 3 * fr.nc
+    eye = sp.identity(n, format="csc")
+    Wp, Wi = W.indptr.astype(np.int32), W.indices.astype(np.int32)
+    u = W @ r + q
+    phi, B1, B2 = K.alart_curnier(r, u, fr.mu, fr.d, rho)
+    merit = 0.5 * float(phi @ phi)
+    merits = [merit]  # the last few give the non-monotone (Grippo-Lampariello-Lucidi) reference
+    lm = False
+    it = 0
+    while it < max_iter and not stop(r, u):
+        it += 1
+        jptr, jind, jdat = K.jacobian_csr(Wp, Wi, W.data, B1, B2)
+        # the CSR arrays of J are the CSC arrays of J^T: factorize J^T, solve with trans="T"
+        JT = sp.csc_matrix((jdat, jind, jptr), shape=(n, n))
+        JT.has_sorted_indices = True
+        dx = newton_direction(JT, -phi, eye, opts, lm)
+        reference = max(merits[-opts.nonmonotone_memory:])
+        alpha, accepted = 1.0, False
+        while alpha > opts.min_step:
+            rn = r + alpha * dx
+            un = W @ rn + q
+            phin, B1n, B2n = K.alart_curnier(rn, un, fr.mu, fr.d, rho)
+            mn = 0.5 * float(phin @ phin)
+            if mn <= reference - opts.armijo * alpha * merit:
+                accepted = True
+                break
+            alpha *= 0.5
+        if not accepted:  # projection (fixed-point) step r <- psi(r) = r - Phi(r)
+            rn = r - phi
+            un = W @ rn + q
+            phin, B1n, B2n = K.alart_curnier(rn, un, fr.mu, fr.d, rho)
+            mn = 0.5 * float(phin @ phin)
+        r, u, phi, B1, B2, merit = rn, un, phin, B1n, B2n, mn
+        merits.append(merit)
+        k = opts.stall_iterations
+        lm = len(merits) > k and merit > 0.5 * merits[-1 - k]
+        if on_iter(it, r, u):
+            break
+    return r, it
+
+
+def run_newton(fr: _Frame, r, max_iter: int, mon: _Monitor, opts: NewtonOptions):
+    """Newton iterations from ``r`` until converged, stopped or ``max_iter``; returns ``(r, it)``."""
+    rho = fr.rho()
+    return newton_steps(fr, fr.W, fr.q, r, rho, lambda r, u: False, max_iter,
+                        lambda k, r, u: mon.record("newton", k, r, fr.error(r, u)), opts)

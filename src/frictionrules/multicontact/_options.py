@@ -1,0 +1,222 @@
+r"""Solver schedules as named options records, and what a solver reports per iteration.
+
+Every number a solver loop uses is a field here, with the measurements behind its default.
+Pass one record to :func:`~frictionrules.solve` with ``options=``; its type selects nothing:
+the ``method`` argument does, and the record must match it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import FrictionRulesError, check_scalar
+
+__all__ = ["NSGSOptions", "NewtonOptions", "ProxOptions", "ADMMOptions", "IterationInfo"]
+
+
+def _check(record, positive=(), nonnegative=(), fractions=(), integers=(), counts=()) -> None:
+    """Validate the named fields of a frozen options record (raise naming the field):
+    ``integers`` >= 0, ``counts`` >= 1."""
+    name = type(record).__name__
+    for f in positive:
+        check_scalar(f"{name}.{f}", getattr(record, f), lo=0.0, lo_open=True)
+    for f in nonnegative:
+        check_scalar(f"{name}.{f}", getattr(record, f), lo=0.0)
+    for f in fractions:
+        check_scalar(f"{name}.{f}", getattr(record, f), lo=0.0, hi=1.0, lo_open=True, hi_open=True)
+    for f, least in [(f, 0) for f in integers] + [(f, 1) for f in counts]:
+        value = getattr(record, f)
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < least:
+            raise FrictionRulesError(f"{name}.{f} = {value!r} violates: an integer >= {least}")
+
+
+@dataclass(frozen=True)
+class NSGSOptions:
+    """Non-smooth Gauss–Seidel (``method="nsgs"``).
+
+    Attributes
+    ----------
+    max_check_interval : int
+        Largest number of sweeps between two evaluations of the full error (one product with
+        W each); the interval is otherwise predicted from the observed linear rate.
+    chunk_seconds : float
+        The compiled sweeps run in chunks of about this wall time, between which the callback
+        is called and the time limit checked.
+    """
+
+    max_check_interval: int = 16
+    chunk_seconds: float = 0.25
+
+    def __post_init__(self):
+        _check(self, positive=("chunk_seconds",), counts=("max_check_interval",))
+
+
+@dataclass(frozen=True)
+class NewtonOptions:
+    r"""Semismooth Newton on the Alart–Curnier function (``method="newton"``).
+
+    Attributes
+    ----------
+    dense_max, dense_fill : int, float
+        J is factorized dense (LAPACK) up to ``dense_max`` unknowns or above this fraction of
+        nonzeros; SuperLU otherwise (its set-up costs more on small systems).
+    refinement_steps : int
+        Steps of iterative refinement with the same LU factors, so that one factorization
+        gives a direction accurate to ``direction_rtol`` on an ill-conditioned J.
+    direction_rtol : float
+        A direction counts when :math:`|J x - b| \le` this :math:`\times |b|`; otherwise the
+        Levenberg–Marquardt direction is taken.
+    lm_weight : float
+        Levenberg–Marquardt :math:`\lambda = ` ``lm_weight`` :math:`|\Phi|`.
+    stall_iterations : int
+        Levenberg–Marquardt directions while the merit has not halved over this many
+        iterations (a singular J where W is rank-deficient and contacts stick).
+    armijo, min_step, nonmonotone_memory : float, float, int
+        Sufficient decrease, smallest step and memory of the non-monotone line search on
+        :math:`\tfrac12|\Phi|^2`.
+    """
+
+    dense_max: int = 400
+    dense_fill: float = 0.2
+    refinement_steps: int = 3
+    direction_rtol: float = 1e-10
+    lm_weight: float = 1e-6
+    stall_iterations: int = 4
+    armijo: float = 2e-4
+    min_step: float = 1e-8
+    nonmonotone_memory: int = 10
+
+    def __post_init__(self):
+        _check(self, positive=("lm_weight", "direction_rtol", "min_step"), fractions=("dense_fill", "armijo"),
+               integers=("dense_max", "refinement_steps", "stall_iterations"), counts=("nonmonotone_memory",))
+
+
+@dataclass(frozen=True)
+class ProxOptions:
+    r"""Proximal point with an inner semismooth Newton (``method="prox"``).
+
+    :math:`r_{k+1}` solves the problem :math:`(W + \sigma I, q - \sigma r_k)`.
+
+    Attributes
+    ----------
+    sigma0 : float
+        Initial :math:`\sigma` relative to the mean of diag W.
+    shrink, grow : float
+        Factor on :math:`\sigma` after an outer step that lowered / did not lower the error.
+    inner_rtol : float
+        The inner Newton stops at this fraction of the outer error.
+    inner_max_iter : int
+        Inner Newton iterations at most per outer step.
+    newton : NewtonOptions
+        Options of the inner Newton.
+
+    Notes
+    -----
+    Chosen on the FCLIB files (outer iterations / factorizations, 0.3-0.03-0.03 against
+    0.1-0.1-0.1): local_problem_test 6/19 vs 9/34, Capsules 4/16 vs 5/21, KaplasTower 5/8 vs
+    6/10, PerioBox 4/15 vs 5/11, spheres-in-a-box 7/50 vs 27/241. The schedule is sensitive:
+    ``sigma0 = 0.5`` fails on Capsules, ``inner_rtol = 0.05`` takes 81 outer iterations on
+    spheres-in-a-box.
+    """
+
+    sigma0: float = 0.3
+    shrink: float = 0.03
+    grow: float = 4.0
+    inner_rtol: float = 0.03
+    inner_max_iter: int = 10
+    newton: NewtonOptions = NewtonOptions()
+
+    def __post_init__(self):
+        _check(self, positive=("sigma0",), fractions=("shrink", "inner_rtol"), integers=("inner_max_iter",))
+        check_scalar("ProxOptions.grow", self.grow, lo=1.0)
+        if not isinstance(self.newton, NewtonOptions):
+            raise FrictionRulesError(f"ProxOptions.newton = {self.newton!r} is not a NewtonOptions")
+
+
+@dataclass(frozen=True)
+class ADMMOptions:
+    r"""ADMM on the cone-constrained problem with De Saxcé's correction (``method="admm"``).
+
+    Iteration (scaled form, :math:`s = \mu(1 - d)|z_T| e_N` the correction from the current
+    dual velocity z; Carpentier, Le Lidec & Montaut, RSS 2024):
+
+    .. math::
+
+        (W + (\rho + \eta) I)\,x^{k+1} = -(q + s) + \rho y^k + \eta x^k + z^k, \quad
+        y^{k+1} = P_K(x^{k+1} - z^k/\rho), \quad z^{k+1} = z^k - \rho(x^{k+1} - y^{k+1}).
+
+    The factorization of :math:`W + (\rho + \eta) I` is computed once per value of
+    :math:`\rho`: an iteration costs one pair of triangular solves, one product with W (the
+    error) and O(nc).
+
+    Attributes
+    ----------
+    eta : float
+        Proximal term :math:`\eta` relative to the largest eigenvalue L of W.
+    rho_power : float
+        Initial :math:`\rho = \sqrt{L m}\,(L/m)^{p}` with :math:`m = \eta L` (spectral rule).
+    rho_power_step : float
+        On an imbalance, :math:`\rho` is multiplied or divided by :math:`(L/m)^{step}`.
+    ratio_primal_dual : float
+        Imbalance threshold between the primal residual :math:`|x - y|_\infty` and the dual
+        one :math:`|\rho\,\Delta y + \eta\,\Delta x|_\infty`.
+    rho_update_every : int
+        Iterations at least between two changes of :math:`\rho` (each one refactorizes).
+    anderson : int
+        Memory of the Anderson acceleration of the fixed-point map on :math:`(y, z)`
+        (0: none). An accelerated step is kept only when it lowers the fixed-point residual.
+    power_iterations : int
+        Power iterations estimating L.
+    """
+
+    eta: float = 1e-6
+    rho_power: float = 0.2
+    rho_power_step: float = 0.05
+    ratio_primal_dual: float = 10.0
+    rho_update_every: int = 5
+    anderson: int = 5
+    power_iterations: int = 30
+
+    def __post_init__(self):
+        _check(self, positive=("eta", "rho_power_step"), nonnegative=("rho_power",),
+               integers=("rho_update_every", "anderson", "power_iterations"))
+        check_scalar("ADMMOptions.ratio_primal_dual", self.ratio_primal_dual, lo=1.0)
+
+
+#: The options record of each method.
+OPTIONS = {"nsgs": NSGSOptions, "newton": NewtonOptions, "prox": ProxOptions, "admm": ADMMOptions}
+
+
+def options_for(method: str, options):
+    """``options`` checked against ``method`` (the method's defaults when None)."""
+    cls = OPTIONS[method]
+    if options is None:
+        return cls()
+    if not isinstance(options, cls):
+        raise FrictionRulesError(f"options = {options!r} does not match method = {method!r}; "
+                                 f"constraint: a {cls.__name__}")
+    return options
+
+
+@dataclass(frozen=True)
+class IterationInfo:
+    """What a solver hands the ``callback`` of :func:`~frictionrules.solve` after an iteration.
+
+    Attributes
+    ----------
+    method : str
+        The method running (``"admm"``, ...; a stage of ``"auto"``).
+    iteration : int
+        Iterations of that method so far (sweeps for nsgs).
+    error : float
+        Siconos' error of the current reactions.
+    seconds : float
+        Wall time since the solve started.
+    """
+
+    method: str
+    iteration: int
+    error: float
+    seconds: float
