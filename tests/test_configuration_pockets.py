@@ -275,16 +275,3 @@ def test_orthotropic_pocket_end_to_end():
             V = contact.slip_direction(T, 1.5)
             assert np.allclose(V, res.limit_point.velocity, atol=1e-8)
             assert all(V @ pocket.normals[m] > 0 for m in range(4) if m != k)
-
-
-def test_orthotropic_example_runs_past_the_limit_point():
-    import importlib.util
-    from pathlib import Path
-    path = Path(__file__).resolve().parents[1] / "examples" / "configuration_orthotropic.py"
-    spec = importlib.util.spec_from_file_location("configuration_orthotropic", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    out = module.main()
-    assert out["limit_point"] == pytest.approx(out["start"], rel=1e-9)
-    assert out["end"] < 0.5 * out["start"]
-    assert out["rate_error"] < 1e-4
