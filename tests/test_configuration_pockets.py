@@ -8,11 +8,15 @@ import numpy as np
 import pytest
 
 from frictionrules import (Coulomb, CylinderOnLayer, EllipticOrthotropic, FacetSet,
-                           FrictionRulesError, HardenedLaw, SlipHardening, SphereOnLayer, UserLaw,
-                           WedgeAsperity)
+                           FrictionRulesError, HardenedLaw, Huber, SlipHardening, SphereOnLayer,
+                           TransformedCoulomb, UserLaw, WedgeAsperity)
 from frictionrules.configuration.geometry import touching
 
 MU = 0.3
+POCKETS = pytest.mark.parametrize("model", [SphereOnLayer(1.0, MU, packing="square"),
+                                            SphereOnLayer(1.0, MU, packing="hexagonal"),
+                                            CylinderOnLayer(1.0, MU)],
+                                  ids=["square", "hexagonal", "groove"])
 
 
 def pocket_normals(model):
@@ -58,9 +62,7 @@ def exact_breakout(normals, mu, beta, Q=1.0):
     return best, count
 
 
-@pytest.mark.parametrize("model", [SphereOnLayer(1.0, MU, packing="square"),
-                                   SphereOnLayer(1.0, MU, packing="hexagonal"),
-                                   CylinderOnLayer(1.0, MU)], ids=["square", "hexagonal", "groove"])
+@POCKETS
 def test_breakout_is_the_exact_root(model):
     """Break-out forces agree with the exact roots (a quadratic, a 3x3 system) to 1e-10."""
     beta = np.linspace(0.0, 2 * np.pi, 48, endpoint=False) + 0.01
@@ -109,9 +111,7 @@ def test_force_control_square_along_the_ridges_does_not_raise(degrees):
         sph.breakout_force([np.radians(degrees)]).peak[0], rel=1e-10)
 
 
-@pytest.mark.parametrize("model", [SphereOnLayer(1.0, MU, packing="square"),
-                                   SphereOnLayer(1.0, MU, packing="hexagonal"),
-                                   CylinderOnLayer(1.0, MU)], ids=["square", "hexagonal", "groove"])
+@POCKETS
 def test_force_control_reaches_the_breakout_force_in_every_direction(model):
     beta = np.linspace(0.0, 2 * np.pi, 24, endpoint=False) + 0.003
     bo = model.breakout_force(beta, Q=2.0)
@@ -134,6 +134,21 @@ def test_displacement_control_continues_past_the_limit_point(packing, degrees):
     assert np.allclose(path.force[0], res.limit_point.force, rtol=1e-9, atol=1e-12)
     assert path.contacts[0] == res.limit_point.state.contacts
     assert np.all(np.diff(path.force_magnitude) < 0)
+
+
+def test_force_control_follows_the_softening_branch_out_of_a_pocket():
+    """From the break-out over one grain (square, 45 deg), the decreasing forces of the exact
+    displacement path give back its positions by (3.7), (3.13) (first order in the step); an
+    increment that does not change the force leaves the grain where it is."""
+    sph = SphereOnLayer(1.0, MU, packing="square")
+    errs = []
+    for n in (41, 81, 161):
+        ex = sph.displacement_path(sph.straight_path(np.pi / 4, 0.3, n))
+        res = sph.force_path(np.concatenate((ex.force[:1], ex.force[:-1])))
+        assert res.completed and res.sliding.all() and res.limit_point.state.contacts == ((0, 0),)
+        assert np.all(res.position[1] == 0.0)
+        errs.append(np.abs(res.position[1:] - ex.position[:-1]).max())
+    assert np.polyfit(np.log([4, 2, 1]), np.log(errs), 1)[0] == pytest.approx(1.0, abs=0.15)
 
 
 def test_displacement_control_continues_past_a_ridge_limit_point():
@@ -229,6 +244,24 @@ def test_user_law_written_for_coulomb_gives_the_coulomb_results():
     F = ramp(0.4, top=2.0, n=21)
     assert np.allclose(a.force_path(F).limit_point.force, b.force_path(F).limit_point.force,
                        atol=1e-10)
+
+
+@pytest.mark.parametrize("law", [
+    EllipticOrthotropic(0.2, 0.4, 0.5), Huber(0.25, 0.35, 0.2), TransformedCoulomb(0.2, 0.4, -0.3),
+    UserLaw("sqrt((T1/mx)**2 + (T2/my)**2) - N", "sqrt((T1/mx)**2 + (T2/my)**2)",
+            params={"mx": 0.25, "my": 0.35}),
+], ids=["elliptic", "huber", "transformed", "user"])
+def test_rate_form_converges_for_every_local_law(law):
+    """The rate relations (the law's derivatives from its symbolic form composed with the
+    frame's) against the exact path (the law's inverse relation and equilibrium): Heun is of
+    order 2 whatever the local law."""
+    sph = SphereOnLayer(1.0, law=law)
+    errs = []
+    for n in (41, 81):
+        path = sph.straight_path(0.4, 0.4, n)
+        errs.append(np.abs(sph.displacement_path(path, "incremental", "heun").force
+                           - sph.displacement_path(path).force).max())
+    assert errs[0] < 1e-4 and np.log2(errs[0] / errs[1]) == pytest.approx(2.0, abs=0.15)
 
 
 def test_isotropic_elliptic_contacts_are_coulomb():

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import FrictionRulesError, check_scalar
-from ..laws import FrictionLaw, InverseRelation, require
+from ..laws import EllipticOrthotropic, FrictionLaw, InverseRelation, require
 from ._frame import frame_of_angles, local_forces
 
 __all__ = ["GrainContact", "ContactTerms", "Carried", "Slide", "check_contact_law",
@@ -51,7 +51,22 @@ def check_contact_law(law, where: str):
     return law
 
 
-@functools.lru_cache(maxsize=256)
+def _per_law(fun):
+    """Cache ``fun(law)`` per law (laws are frozen dataclasses; an unhashable one is not
+    cached)."""
+    cached = functools.lru_cache(maxsize=256)(fun)
+
+    @functools.wraps(fun)
+    def call(law):
+        try:
+            hash(law)
+        except TypeError:
+            return fun(law)
+        return cached(law)
+    return call
+
+
+@_per_law
 def _traits(law) -> tuple[bool, bool]:
     """``(homogeneous, tangential)``: the limit curve at ``N`` is ``N`` times the one at
     ``N = 1``, and the sliding rule has no normal slip (``dg/dN = 0``)."""
@@ -109,9 +124,22 @@ def carried_force(law, axes: np.ndarray, V) -> Carried:
     return carried_at(law, axes, np.arctan2(v[..., 1], v[..., 0]))
 
 
+@_per_law
+def _inverse_of(law):
+    """The law whose inverse relation a contact uses: for a law declaring the capability
+    ``"cone"`` without normal slip, its elliptic cone (the closed form (1.13) of
+    :class:`frictionrules.EllipticOrthotropic`, the same tangential sliding rule); otherwise the
+    law itself (a closed form, or the numeric inverse of the protocol)."""
+    if "cone" in law.capabilities:
+        c = law.cone()
+        if c.dilatancy == 0.0 and min(c.mu_x, c.mu_y) > 0:
+            return EllipticOrthotropic(c.mu_x, c.mu_y, c.angle)
+    return law
+
+
 def carried_at(law, axes: np.ndarray, phi) -> Carried:
     """:func:`carried_force` for the local slip angles ``phi`` (from ``t1`` towards ``t2``)."""
-    inv = law.inverse_relation(phi, 1.0)
+    inv = _inverse_of(law).inverse_relation(phi, 1.0)
     tau = np.where(inv.locked[..., None], 0.0, inv.force)
     a = tau[..., 0:1] * axes[..., 0, :] + tau[..., 1:2] * axes[..., 1, :] - axes[..., 2, :]
     return Carried(a, inv.locked)

@@ -24,7 +24,7 @@ import numpy as np
 from ..errors import FrictionRulesError, check_vectors
 from ._contact import contact_terms, finite_terms, require_sliding_law
 from ._frame import frames
-from .geometry import angles, touching
+from .geometry import HEIGHT_TOL, angles, touching
 from .pockets import Support, crossing
 from .state import ForceControlResult, GrainState, LimitPoint
 
@@ -57,9 +57,12 @@ class _Sliding:
         return GrainState(self.position.copy(), self.height, (self.cid,), (float(a),), (float(p),))
 
     def check_alone(self, index: int) -> None:
-        """Raise where the grain reaches another layer grain (a new contact closes)."""
+        """Raise where the grain reaches another layer grain (a new contact closes): one higher
+        than the sliding contact at the grain's position."""
         t = touching(self.model.layer, self.position)
-        if self.cid not in t.ids or len(t.ids) > 1:
+        d = self.model.diameter
+        r = self.offset()
+        if t.height > np.sqrt(max(d * d - r @ r, 0.0)) + HEIGHT_TOL * d:
             raise FrictionRulesError(
                 f"forces[{index}]: the grain reaches the layer grains {t.ids} at "
                 f"{tuple(self.position)!r}; force control follows one sliding contact up to a "
