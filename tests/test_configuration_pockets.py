@@ -74,6 +74,19 @@ def test_breakout_is_the_exact_root(model):
         assert c == count
 
 
+def test_breakout_over_the_single_sphere_is_the_quadratic_root():
+    """The one-contact model: the grain leans on one layer sphere, held down the slope by the
+    pocket it comes from; along a ray the break-out is the root of the wedge's quadratic (2.2)
+    on its climbing part, and no mechanism starts where the ray leaves sideways (jammed)."""
+    sph = SphereOnLayer(1.0, MU)
+    beta = np.radians([-25.0, -10.0, 0.0, 15.0, 25.0])
+    bo = sph.breakout_force(beta, Q=1.3)
+    for b, t in zip(beta, bo.peak):
+        assert t == pytest.approx(exact_breakout(pocket_normals(sph), MU, b, 1.3)[0], rel=1e-12)
+    with pytest.raises(FrictionRulesError, match="jams"):
+        sph.breakout_force([np.radians(120.0)])
+
+
 def test_breakout_is_the_facet_set_limit_load():
     model = SphereOnLayer(1.0, MU, packing="hexagonal")
     fs = FacetSet(pocket_normals(model), MU)

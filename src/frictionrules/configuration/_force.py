@@ -76,7 +76,7 @@ def force_path(model, forces, state: GrainState | None, Q: float) -> ForceContro
     if T.ndim != 2 or len(T) < 1:
         raise FrictionRulesError(f"forces must have shape (n, 2), got shape {T.shape}")
     require_sliding_law(model.law, f"{type(model).__name__}.force_path")
-    support = Support(model, np.zeros(2) if state is None else state.position)
+    support = Support.at(model, np.zeros(2) if state is None else state.position)
     tol = FORCE_TOL * Q
     f0 = float(support.limit(T[0], Q))
     if f0 > tol:
@@ -132,7 +132,7 @@ def force_path(model, forces, state: GrainState | None, Q: float) -> ForceContro
             completed = False
             break
         if fT <= 0 and h >= 0:   # no softening here: the contact unloads and the grain sticks
-            support, grain = Support(model, grain.position), None
+            support, grain = Support.at(model, grain.position), None
             sliding.append(False)
             positions.append(positions[-1].copy())
             heights.append(heights[-1])

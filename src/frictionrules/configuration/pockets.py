@@ -38,17 +38,29 @@ FAR = 1e6
 
 @dataclass(frozen=True)
 class Mechanism:
-    """How the grain starts to move at a load on the edge of its support.
+    """How the grain starts to move when the load reaches the edge of its support.
 
-    ``contacts`` are the indices (into the support's contacts) of the sliding contacts, empty
-    where none starts (the support jams); ``velocity`` (3,) the unit grain velocity;
-    ``quasi_static`` False where the grain loses equilibrium without a mechanism of the local
-    sliding rule (:class:`frictionrules.FacetSet`, non-associated local laws).
+    Attributes
+    ----------
+    load : float
+        The load factor along the load's direction at the edge (``inf`` where none starts).
+    contacts : tuple of int
+        Indices (into the support's contacts) of the sliding contacts; empty where no mechanism
+        starts (the support jams).
+    velocity : array (3,)
+        Unit grain velocity (zeros where none starts).
+    quasi_static : bool
+        False where the grain loses equilibrium without a mechanism of the local sliding rule
+        (:class:`frictionrules.FacetSet`, non-associated local laws).
     """
 
+    load: float
     contacts: tuple
     velocity: np.ndarray
     quasi_static: bool = True
+
+
+_JAMMED = Mechanism(np.inf, (), np.zeros(3))
 
 
 def facet_set(normals: np.ndarray, law) -> FacetSet:
@@ -58,29 +70,35 @@ def facet_set(normals: np.ndarray, law) -> FacetSet:
     return FacetSet(normals, law)
 
 
+@dataclass(frozen=True)
 class Support:
-    """The contacts of a grain at rest at one position and the loads they carry.
+    """The contacts of a grain at rest at one position and the loads they carry: several
+    contacts as a facet set (``facets``), a single one as a :class:`GrainContact` held down the
+    slope by the pocket the grain comes from (``contact``).
 
     ``limit(T, Q)`` is negative inside (the grain sticks), zero on the edge (it starts to move,
     :meth:`mechanism`), positive outside.
     """
 
-    def __init__(self, model, position):
-        self.model = model
-        self.touching: Touching = touching(model.layer, position)
-        self.position = np.asarray(position, dtype=float).reshape(2)
-        normals = self.touching.normals
-        if len(normals) == 1:
-            a, p = angles(normals[0], model.layer.cylindrical)
-            self.contact, self.facets = GrainContact(model.law, float(a), float(p)), None
-        else:
-            self.contact = None
-            try:
-                self.facets = facet_set(normals, model.law)
-            except FrictionRulesError as exc:
-                raise FrictionRulesError(
-                    f"the grain at {tuple(self.position)!r} rests on the layer grains "
-                    f"{self.touching.ids}, which cannot carry it at rest: {exc}") from None
+    model: object
+    position: np.ndarray
+    touching: Touching
+    facets: FacetSet | None
+    contact: GrainContact | None
+
+    @classmethod
+    def at(cls, model, position) -> "Support":
+        position = np.asarray(position, dtype=float).reshape(2)
+        t = touching(model.layer, position)
+        if len(t.ids) == 1:
+            a, p = angles(t.normals[0], model.layer.cylindrical)
+            return cls(model, position, t, None, GrainContact(model.law, float(a), float(p)))
+        try:
+            facets = facet_set(t.normals, model.law)
+        except FrictionRulesError as exc:
+            raise FrictionRulesError(f"the grain at {tuple(position)!r} rests on the layer grains "
+                                     f"{t.ids}, which cannot carry it at rest: {exc}") from None
+        return cls(model, position, t, facets, None)
 
     def limit(self, T, Q: float) -> np.ndarray:
         T = np.asarray(T, dtype=float)
@@ -88,39 +106,33 @@ class Support:
             return self.facets.limit(T, np.full(T.shape[:-1], Q))
         return self.contact.climbing_limit(T, np.full(T.shape[:-1], Q))
 
-    def climbing(self, T, Q: float) -> bool:
-        """For one contact: whether the load's in-plane part points up the slope (the grain
-        climbs; else the pocket holds it and it would slide down, not followed)."""
-        return bool(self.contact.upslope_force(T, Q) > 0)
+    def _facet_mechanism(self, direction: np.ndarray, Q: float) -> Mechanism:
+        load = self.facets.limit_load(direction, Q)
+        if load.mechanism is None:
+            return _JAMMED
+        return Mechanism(float(load.load), tuple(int(k) for k in load.mechanism),
+                         np.asarray(load.velocity), bool(load.quasi_static))
 
     def mechanism(self, T, Q: float) -> Mechanism:
-        """The mechanism that starts at the load ``T`` on the edge of the support."""
+        """The mechanism that starts at the load ``T`` on the edge of the support. On one
+        contact it climbs where the load's in-plane part points up the slope; elsewhere the
+        grain would slide back down into the pocket, which is not followed (jammed)."""
         T = np.asarray(T, dtype=float)
-        if self.facets is None:
-            if not self.climbing(T, Q):
-                return Mechanism((), np.zeros(3))
-            return Mechanism((0,), self.contact.slip_direction(T, Q))
-        load = self.facets.limit_load(T / np.hypot(*T), Q)
-        if load.mechanism is None:
-            return Mechanism((), np.zeros(3))
-        return Mechanism(tuple(int(k) for k in load.mechanism), np.asarray(load.velocity),
-                         bool(load.quasi_static))
+        if self.facets is not None:
+            return self._facet_mechanism(T / np.hypot(*T), Q)
+        if self.contact.upslope_force(T, Q) <= 0:
+            return _JAMMED
+        return Mechanism(float(np.hypot(*T)), (0,), self.contact.slip_direction(T, Q))
 
-    def limit_load(self, direction, Q: float) -> tuple[float, Mechanism]:
-        """The load factor ``t`` at which ``T = t (cos b, sin b)`` reaches the edge, and the
-        mechanism (``inf`` and no contacts where none starts)."""
+    def limit_load(self, direction: float, Q: float) -> Mechanism:
+        """The mechanism at the edge along the load direction ``direction`` (radians)."""
         e = np.array([np.cos(direction), np.sin(direction)])
         if self.facets is not None:
-            load = self.facets.limit_load(e, Q)
-            if load.mechanism is None:
-                return np.inf, Mechanism((), np.zeros(3))
-            return float(load.load), Mechanism(tuple(int(k) for k in load.mechanism),
-                                               np.asarray(load.velocity), bool(load.quasi_static))
+            return self._facet_mechanism(e, Q)
         if self.limit(FAR * Q * e, Q) <= 0:
-            return np.inf, Mechanism((), np.zeros(3))
-        t = crossing(lambda s: float(self.limit(s * e, Q)), 0.0, FAR * Q)
-        mech = self.mechanism(t * e, Q)
-        return (t, mech) if mech.contacts else (np.inf, mech)
+            return _JAMMED
+        t = crossing(lambda s: float(self.limit(s * e, Q)), 0.0, FAR * Q, Q)
+        return self.mechanism(t * e, Q)
 
     def state(self, contacts: tuple, height: float | None = None) -> GrainState:
         """The configuration with the contacts ``contacts`` (indices) sliding."""
@@ -131,10 +143,15 @@ class Support:
                           tuple(float(v) for v in a), tuple(float(v) for v in p))
 
 
-def crossing(fun, a: float, b: float) -> float:
-    """The root of ``fun`` in ``[a, b]`` where it changes sign (Brent's method, SciPy)."""
+#: Relative tolerance of a crossing of the support's edge (a few ulps).
+CROSSING_RTOL = 4 * np.finfo(float).eps
+
+
+def crossing(fun, a: float, b: float, scale: float = 1.0) -> float:
+    """The root of ``fun`` in ``[a, b]`` where it changes sign (Brent's method, SciPy), to a few
+    ulps of the root or of ``scale``."""
     brentq = require("scipy.optimize", extra="solvers").brentq
-    return float(brentq(fun, a, b, xtol=1e-14 * max(abs(b), 1.0), rtol=4 * np.finfo(float).eps))
+    return float(brentq(fun, a, b, xtol=CROSSING_RTOL * scale, rtol=CROSSING_RTOL))
 
 
 def breakout_force(model, directions, Q: float) -> PeakForcePolar:
@@ -146,12 +163,13 @@ def breakout_force(model, directions, Q: float) -> PeakForcePolar:
     direction in which no mechanism can start (the pocket jams).
     """
     beta = np.atleast_1d(np.asarray(directions, dtype=float))
-    support = Support(model, np.zeros(2))
+    support = Support.at(model, np.zeros(2))
     peak = np.zeros(beta.shape)
     count = np.zeros(beta.shape, dtype=int)
     mechanism = []
     for i, b in enumerate(beta):
-        peak[i], mech = support.limit_load(b, Q)
+        mech = support.limit_load(b, Q)
+        peak[i] = mech.load
         if not mech.contacts:
             raise FrictionRulesError(f"directions[{i}] = {b!r}: no mechanism starts for a force "
                                      "in that direction (the pocket jams)")
