@@ -27,7 +27,7 @@ def exact_breakout(normals, mu, beta, Q=1.0):
     """The break-out force by an independent mechanism search with local Coulomb friction (no
     normal slip), the smallest load factor t over the admissible mechanisms: over one grain k, a
     positive root t of the quadratic |F_t|^2 = mu^2 N^2, F = (t e, -Q), N = -F.n_k >= 0, whose
-    slip (along F_t) separates the grain from the others; over two j, k, V = +-n_j x n_k
+    slip (along F_t) climbs and separates the grain from the others; over two j, k, V = +-n_j x n_k
     separating it from the others and the 3x3 equilibrium (t e, -Q) = N_j (mu V - n_j) +
     N_k (mu V - n_k) with t, N_j, N_k >= 0."""
     e = np.array([np.cos(beta), np.sin(beta), 0.0])
@@ -43,8 +43,9 @@ def exact_breakout(normals, mu, beta, Q=1.0):
             F = t * e + B
             if t <= 0 or -(F @ n) < 0:
                 continue
-            V = F - (F @ n) * n
-            if all(V @ normals[m] > 1e-12 for m in range(K) if m != k) and t < best - 1e-12:
+            V = F - (F @ n) * n                # climbs, away from the other grains
+            if V[2] > 0 and all(V @ normals[m] > 1e-12 for m in range(K) if m != k) and (
+                    t < best - 1e-12):
                 best, count = t, 1
     for j in range(K):
         for k in range(j + 1, K):
