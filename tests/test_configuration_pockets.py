@@ -86,6 +86,8 @@ def test_breakout_over_the_single_sphere_is_the_quadratic_root():
         assert t == pytest.approx(exact_breakout(pocket_normals(sph), MU, b, 1.3)[0], rel=1e-12)
     with pytest.raises(FrictionRulesError, match="jams"):
         sph.breakout_force([np.radians(120.0)])
+    with pytest.raises(FrictionRulesError, match="down the slope"):
+        sph.force_path(ramp(np.radians(57.0)))
 
 
 def test_breakout_is_the_facet_set_limit_load():

@@ -92,11 +92,14 @@ def force_path(model, forces, state: GrainState | None, Q: float) -> ForceContro
         """The limit point at ``force``; the sliding contact when one contact starts."""
         mech = support.mechanism(force, Q)
         if not mech.contacts:
+            where = f"forces[{i + 1 if s > 0 else i}] = {tuple(force)!r}"
+            if support.facets is not None:
+                raise FrictionRulesError(f"{where}: no mechanism of the contacts "
+                                         f"{support.touching.ids} starts at that force")
             raise FrictionRulesError(
-                f"forces[{i + 1 if s > 0 else i}] = {tuple(force)!r}: the force reaches the limit "
-                f"curve of contact {support.touching.ids[0]} where its in-plane part points down "
-                "the slope: the grain would slide back into the pocket it comes from, which a "
-                "one-contact model does not follow")
+                f"{where}: the force reaches the limit curve of contact {support.touching.ids[0]} "
+                "where its in-plane part points down the slope: the grain would slide back into "
+                "the pocket it comes from, which a one-contact model does not follow")
         lp = LimitPoint(i, float(s), np.array(force, dtype=float),
                         support.state(mech.contacts, heights[-1]), mech.velocity.copy())
         if len(mech.contacts) > 1 or not mech.quasi_static:
