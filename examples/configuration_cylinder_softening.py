@@ -13,13 +13,13 @@ import numpy as np
 from frictionrules import CylinderOnLayer
 
 
-def main(mu: float = 0.3) -> dict:
-    cyl = CylinderOnLayer(diameter=1.0, mu=mu, Q=1.0)
+def main(mu: float = 0.3, Q: float = 1.0) -> dict:
+    cyl = CylinderOnLayer(diameter=1.0, mu=mu)
     steps, errors = [], []
     for n in (11, 21, 41, 81, 161):
         path = cyl.straight_path(direction=0.0, length=0.5, n=n)     # groove -> top
-        exact = cyl.displacement_path(path)
-        inc = cyl.displacement_path(path, method="incremental")
+        exact = cyl.displacement_path(path, Q=Q)
+        inc = cyl.displacement_path(path, method="incremental", Q=Q)
         steps.append(0.5 / (n - 1))
         errors.append(np.abs(inc.force - exact.force).max())
         print(f"step {steps[-1]:.5f}: T at top {inc.force[-1, 0]:.5f} (exact {exact.force[-1, 0]:.5f}),"
@@ -28,10 +28,10 @@ def main(mu: float = 0.3) -> dict:
     print(f"observed order of the incremental scheme: {order:.2f}")
 
     ramp = np.stack((np.linspace(0.0, 2.0, 101), np.zeros(101)), axis=-1)
-    lp = cyl.force_path(ramp).limit_point
-    print(f"force control: limit point at T = {lp.force[0]:.5f} Q "
+    lp = cyl.force_path(Q * ramp, Q=Q).limit_point
+    print(f"force control: limit point at T = {lp.force[0] / Q:.5f} Q "
           f"(Q tan(pi/6 + rho) = {np.tan(np.pi / 6 + np.arctan(mu)):.5f} Q)")
-    return {"order": order, "limit_force": lp.force[0], "top_force": exact.force[-1, 0]}
+    return {"order": order, "limit_force": lp.force[0] / Q, "top_force": exact.force[-1, 0] / Q}
 
 
 if __name__ == "__main__":

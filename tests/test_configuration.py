@@ -19,8 +19,8 @@ def slope(hs, errs):
 def test_cylinder_rest_and_top_exact():
     """At rest in the groove alpha = pi/6 and T = Q tan(pi/6 + rho); on the top alpha = 0 and
     T = mu Q (the flat Coulomb contact); past the top T = Q tan(rho + alpha), alpha < 0."""
-    cyl = CylinderOnLayer(2.0, MU, Q=3.0)
-    res = cyl.displacement_path(cyl.straight_path(0.0, 2.0, 9))
+    cyl = CylinderOnLayer(2.0, MU)
+    res = cyl.displacement_path(cyl.straight_path(0.0, 2.0, 9), Q=3.0)
     assert res.alpha[0] == pytest.approx(np.pi / 6)
     assert res.force[0] == pytest.approx([3.0 * np.tan(np.pi / 6 + RHO), 0.0])
     assert res.alpha[4] == pytest.approx(0.0, abs=1e-12)          # u = d/2: on the top
@@ -67,12 +67,12 @@ def test_cylinder_incremental_converges_to_exact(scheme, order):
 def test_cylinder_oblique_path_limit_curve_eq_2_2():
     """Sliding obliquely to the axes: the exact force lies on the limit curve (2.2) of the current
     alpha and its slip (2.4) is along the path."""
-    cyl = CylinderOnLayer(1.0, MU, Q=2.0)
+    cyl = CylinderOnLayer(1.0, MU)
     th = 0.6
-    res = cyl.displacement_path(cyl.straight_path(th, 0.5, 11))
+    res = cyl.displacement_path(cyl.straight_path(th, 0.5, 11), Q=2.0)
     for i in range(10):
         st_ = cyl.state_at(res.position[i], th)
-        assert abs(cyl.limit(res.force[i], st_)) < 1e-9
+        assert abs(cyl.limit(res.force[i], st_, Q=2.0)) < 1e-9
         Tx, Ty = res.force[i]
         a = res.alpha[i]
         assert (Tx * np.cos(a) - 2.0 * np.sin(a)) * np.cos(a) / Ty == pytest.approx(1 / np.tan(th))
@@ -142,9 +142,9 @@ def test_power_balance_and_compression(th, packing, m):
 
 # ---- force control: (3.7), (3.13) ---------------------------------------------------------------
 def test_force_control_finds_the_limit_point_cylinder():
-    cyl = CylinderOnLayer(1.0, MU, Q=2.0)
+    cyl = CylinderOnLayer(1.0, MU)
     F = np.stack((np.linspace(0.0, 4.0, 41), np.zeros(41)), axis=-1)
-    res = cyl.force_path(F)
+    res = cyl.force_path(F, Q=2.0)
     lp = res.limit_point
     assert not res.completed
     assert lp.force[0] == pytest.approx(2.0 * np.tan(np.pi / 6 + RHO), rel=1e-10)
@@ -154,18 +154,23 @@ def test_force_control_finds_the_limit_point_cylinder():
 
 
 def test_force_control_limit_point_sphere_any_direction():
-    """The limit point lies on the climbing branch (T1 > 0) of the limit curve (2.2)."""
+    """The limit point lies on the climbing branch (T1 > 0) of the limit curve (2.2) of the
+    contact that slides."""
     sph = SphereOnLayer(1.0, MU, packing="hexagonal")
     for beta in (0.0, 0.2, -0.25):
         F = np.outer(np.linspace(0, 3, 31), [np.cos(beta), np.sin(beta)])
         res = sph.force_path(F)
         st_ = res.limit_point.state
+        assert len(st_.contacts) == 1
         assert abs(sph.limit(res.limit_point.force, st_)) < 1e-9
         assert not res.completed
-    # pushed at 29 deg the force meets the sideways part (T1 < 0) of the contact's limit curve:
-    # a mechanism (back into the pocket) that a one-contact model does not follow
-    with pytest.raises(FrictionRulesError, match="down-slope"):
-        sph.force_path(np.outer(np.linspace(0, 3, 31), [np.cos(0.5), np.sin(0.5)]))
+    # pushed at 29 deg the grain rides the ridge between two layer spheres: the limit point is
+    # the pocket's break-out force there, reached with both contacts on their limit curves
+    res = sph.force_path(np.outer(np.linspace(0, 3, 31), [np.cos(0.5), np.sin(0.5)]))
+    st_ = res.limit_point.state
+    assert len(st_.contacts) == 2
+    assert np.hypot(*res.limit_point.force) == pytest.approx(sph.breakout_force([0.5]).peak[0],
+                                                             rel=1e-10)
 
 
 def test_force_control_softening_branch_follows_the_exact_path():
@@ -224,7 +229,8 @@ def test_ridge_two_contacts_equilibrium():
     (lambda: SphereOnLayer(1.0, 0.3, packing="cubic"), "packing"),
     (lambda: CylinderOnLayer(-1.0, 0.3), "diameter"),
     (lambda: CylinderOnLayer(1.0, -0.3), "mu"),
-    (lambda: SphereOnLayer(1.0, 0.3, Q=0.0), "Q"),
+    (lambda: SphereOnLayer(1.0, 0.3).breakout_force([0.0], Q=0.0), "Q"),
+    (lambda: CylinderOnLayer(1.0, 0.3).displacement_path([[0, 0], [0.1, 0]], Q=-1.0), "Q"),
 ])
 def test_bad_parameters(make, match):
     with pytest.raises(FrictionRulesError, match=match):
@@ -250,17 +256,23 @@ def test_bad_paths():
 
 
 def test_contact_law_is_the_core_wedge():
-    from frictionrules import Coulomb, WedgeAsperity
+    """A contact is the local law in the contact's frame: for local Coulomb friction the core
+    WedgeAsperity (2.2) of the same inclination (``pi + alpha`` past the top, where the plane
+    falls towards +x), and Coulomb on the top."""
+    from frictionrules import Coulomb, GrainContact, WedgeAsperity
     cyl = CylinderOnLayer(1.0, MU)
-    law = cyl.contact_law(cyl.rest_state())
-    assert isinstance(law, WedgeAsperity) and law.alpha == pytest.approx(np.pi / 6)
-    assert cyl.contact_law(cyl.state_at((0.5, 0.0))) == Coulomb(MU)
+    T = np.array([[0.2, 0.1], [1.0, -0.3], [-0.4, 0.2]])
+    rest = cyl.contact_law(cyl.rest_state())
+    assert isinstance(rest, GrainContact) and rest.alpha == pytest.approx(np.pi / 6)
+    assert np.allclose(rest.limit(T, 1.0), WedgeAsperity(np.pi / 6, MU).limit(T, 1.0), atol=1e-14)
+    top = cyl.contact_law(cyl.state_at((0.5, 0.0)))
+    assert np.allclose(top.limit(T, 1.0), Coulomb(MU).limit(T, 1.0), atol=1e-14)
     past = cyl.state_at((0.75, 0.0))
-    assert cyl.contact_law(past).alpha == pytest.approx(np.pi - np.arcsin(0.25))
-    T = np.array([0.2, 0.1])
-    assert cyl.limit(T, past) == pytest.approx(
-        np.hypot(T[0] * np.cos(past.alpha[0]) - np.sin(past.alpha[0]), T[1])
-        - MU * (T[0] * np.sin(past.alpha[0]) + np.cos(past.alpha[0])))
+    wedge = WedgeAsperity(np.pi - np.arcsin(0.25), MU)
+    assert np.allclose(cyl.contact_law(past).limit(T, 1.0), wedge.limit(T, 1.0), atol=1e-14)
+    assert cyl.limit(T[0], past) == pytest.approx(
+        np.hypot(T[0, 0] * np.cos(past.alpha[0]) - np.sin(past.alpha[0]), T[0, 1])
+        - MU * (T[0, 0] * np.sin(past.alpha[0]) + np.cos(past.alpha[0])))
 
 
 # ---- break-out from a pocket under a force in any direction -------------------------------------
@@ -293,18 +305,18 @@ def test_breakout_over_one_lies_on_that_contacts_limit_curve():
     """Where the grain climbs over one grain, the break-out force is on the limit curve (2.2) of
     that contact (in its frame (3.11)); elsewhere it may lie beyond a single contact's limit curve,
     whose slip the neighbours block (the ridge mechanism starts later)."""
-    from frictionrules.configuration.geometry import angles
-    from frictionrules.configuration.pockets import pocket_contacts
+    from frictionrules.configuration.geometry import angles, touching
     sph = SphereOnLayer(1.0, MU, packing="hexagonal")
     th = np.linspace(0, 2 * np.pi, 37)
     bo = sph.breakout_force(th)
-    normals, ids = pocket_contacts(sph)
+    pocket = touching(sph.layer, np.zeros(2))
+    normals, ids = pocket.normals, pocket.ids
     states = [GrainState(np.zeros(2), 0.0, (i,), (a,), (p,))
               for i, (a, p) in zip(ids, zip(*angles(normals, False)))]
     for t, T, c in zip(bo.peak, bo.start, bo.count):
         fs = [float(sph.limit(T, st_)) for st_ in states]
         if c == 1:
-            assert min(abs(f) for f in fs) < 1e-6
+            assert min(abs(f) for f in fs) < 1e-10
 
 
 @pytest.mark.parametrize("packing", ["square", "hexagonal"])

@@ -138,6 +138,15 @@ def test_sphere_pocket_example():
     assert out["over_one_peak"] == pytest.approx(np.tan(np.arcsin(3**-0.5) + np.arctan(0.3)))
 
 
+def test_configuration_orthotropic_example():
+    """Orthotropic grain contacts: force control reaches the break-out force, displacement
+    control starts there and softens, the rate form agrees with the exact path."""
+    out = load("configuration_orthotropic").main()
+    assert out["limit_point"] == pytest.approx(out["start"], rel=1e-9)
+    assert out["end"] < 0.5 * out["start"]
+    assert out["rate_error"] < 1e-4
+
+
 # ---- elastic-plastic contact (§4) ----------------------------------------------------
 def test_fig10_shear_example(tmp_path):
     out = load("contact_fig10_shear").main(out_dir=tmp_path)

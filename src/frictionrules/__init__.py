@@ -41,6 +41,7 @@ from .contact import ContactModel, ContactState, DriveResult, UpdateResult, driv
 from .configuration import (
     CylinderOnLayer,
     ForceControlResult,
+    GrainContact,
     GrainState,
     LimitPoint,
     PathResult,
@@ -111,6 +112,7 @@ __all__ = [
     # configuration softening (§3)
     "CylinderOnLayer",
     "SphereOnLayer",
+    "GrainContact",
     "GrainState",
     "PathResult",
     "LimitPoint",

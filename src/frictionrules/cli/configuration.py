@@ -129,15 +129,16 @@ def build_model(opts):
         if opts["packing"] != "single":
             raise FrictionRulesError(f"packing = {opts['packing']!r}: a cylinder rests on a line "
                                      "of cylinders (packing applies to spheres)")
-        return fr.CylinderOnLayer(opts["diameter"], opts["mu"], opts["Q"])
+        return fr.CylinderOnLayer(opts["diameter"], opts["mu"])
     if opts["grain"] == "sphere":
-        return fr.SphereOnLayer(opts["diameter"], opts["mu"], opts["Q"], opts["packing"])
+        return fr.SphereOnLayer(opts["diameter"], opts["mu"], packing=opts["packing"])
     raise FrictionRulesError(f"grain = {opts['grain']!r} violates grain in ('cylinder', 'sphere')")
 
 
-def polar_sweep(model, directions, progress=None) -> dict:
-    """Pocket peak force in each direction; a direction in which the pocket jams (no mechanism
-    starts) is flagged ``jammed`` with an infinite peak instead of stopping the sweep.
+def polar_sweep(model, directions, progress=None, Q: float = 1.0) -> dict:
+    """Pocket peak force in each direction under the vertical load ``Q``; a direction in which
+    the pocket jams (no mechanism starts) is flagged ``jammed`` with an infinite peak instead of
+    stopping the sweep.
 
     Returns the table columns ``direction`` (radians), ``peak``, ``Tx``, ``Ty``, ``contacts``,
     ``jammed``.
@@ -150,7 +151,7 @@ def polar_sweep(model, directions, progress=None) -> dict:
     count, jammed = np.zeros(n, dtype=int), np.zeros(n, dtype=bool)
     for i, theta in enumerate(directions):
         try:
-            res = model.breakout_force([theta])
+            res = model.breakout_force([theta], Q=Q)
         except FrictionRulesError:  # the pocket jams in this direction
             jammed[i] = True
         else:
@@ -177,11 +178,11 @@ def run(args) -> int:
     if polar:
         th = np.linspace(0.0, 2 * np.pi, int(polar), endpoint=False)
         with _common.progress(args, "configuration --polar", len(th), "directions") as bar:
-            columns = polar_sweep(model, th, bar)
+            columns = polar_sweep(model, th, bar, Q=opts["Q"])
         columns["direction"] = th / scale
         units = {"direction": angle, "peak": "force", "Tx": "force", "Ty": "force",
                  "contacts": "1", "jammed": "1"}
-        _print_polar(columns, model.Q, angle)
+        _print_polar(columns, opts["Q"], angle)
     else:
         if opts.get("path") is not None:
             path = np.asarray(opts["path"], dtype=float)
@@ -189,14 +190,15 @@ def run(args) -> int:
             path = model.straight_path(opts["direction"] * scale, opts.get("length"), opts["steps"])
         with _common.progress(args, "configuration") as bar:
             bar.phase(f"following the path ({len(path)} points, {opts['method']})")
-            res = model.displacement_path(path, opts["method"], opts["scheme"])
+            res = model.displacement_path(path, opts["method"], opts["scheme"], Q=opts["Q"])
         columns = res.table()
         columns["alpha"], columns["psi"] = columns["alpha"] / scale, columns["psi"] / scale
         units = {**_PATH_UNITS, "alpha": angle, "psi": angle}
         T = res.force_magnitude
         print(f"{type(model).__name__}: {len(path)} points, method {res.method}")
-        print(f"|T|/Q: start {T[0] / model.Q:.4f}, peak {T.max() / model.Q:.4f}, "
-              f"end {T[-1] / model.Q:.4f}; dilatancy {res.height[-1] - res.height[0]:+.4g}")
+        Q = opts["Q"]
+        print(f"|T|/Q: start {T[0] / Q:.4f}, peak {T.max() / Q:.4f}, "
+              f"end {T[-1] / Q:.4f}; dilatancy {res.height[-1] - res.height[0]:+.4g}")
         for i, what, cid in res.events():
             print(f"  point {i}: contact {cid} {'opens' if what == 'open' else 'closes'}")
     meta = _common.metadata(args, model=model, parameters=opts)
@@ -204,7 +206,7 @@ def run(args) -> int:
         write_table(out, columns, units=units, metadata=meta)
         print(f"wrote {out}")
     if figure is not None:
-        _figure(model, columns if polar else path, figure, meta, polar=bool(polar))
+        _figure(model, columns if polar else path, figure, meta, polar=bool(polar), Q=opts["Q"])
         print(f"wrote {figure}")
     return 0
 
@@ -225,7 +227,7 @@ def _print_polar(columns, Q, angle) -> None:
               + f" {angle}")
 
 
-def _figure(model, data, path, meta, *, polar: bool) -> None:
+def _figure(model, data, path, meta, *, polar: bool, Q: float) -> None:
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -234,7 +236,7 @@ def _figure(model, data, path, meta, *, polar: bool) -> None:
     from .._output import write_figure
     if polar:
         th = np.linspace(0.0, 2 * np.pi, len(data["peak"]), endpoint=False)
-        r = np.where(data["jammed"], np.nan, data["peak"] / model.Q)
+        r = np.where(data["jammed"], np.nan, data["peak"] / Q)
         fig, ax = plt.subplots(figsize=(6, 6), subplot_kw={"projection": "polar"})
         ax.plot(np.append(th, th[0]), np.append(r, r[0]), label="peak |T|/Q")
         if data["jammed"].any():

@@ -36,6 +36,12 @@ from ..errors import FrictionRulesError
 
 KINDS = ("line", "single", "square", "hexagonal")
 
+#: Grains whose heights at a point agree within this fraction of ``d`` touch the upper grain at
+#: once (round-off of the square roots in the envelope).
+HEIGHT_TOL = 1e-9
+#: Contacts whose heights grow along the motion at rates within this tolerance slide at once.
+SLOPE_TOL = 1e-7
+
 _S3 = np.sqrt(3.0)
 
 
@@ -123,13 +129,13 @@ def active_contacts(layer: Layer, points, tangents, *, max_count: int = 2) -> Co
             f"position[{bad}] = {tuple(pts[bad])!r} is off the layer: no layer grain within the "
             f"diameter d = {d!r} (constraint: |u - c| < d for some layer grain c)")
     zmax = np.max(np.where(reach, z, -np.inf), axis=1)
-    cand = reach & (z >= zmax[:, None] - 1e-9 * d)
+    cand = reach & (z >= zmax[:, None] - HEIGHT_TOL * d)
     if layer.cylindrical:
         slope = -(r[..., 0] * t[:, None, 0]) / z
     else:
         slope = -np.einsum("nki,ni->nk", r, t) / z
     smax = np.max(np.where(cand, slope, -np.inf), axis=1)
-    act = cand & (slope >= smax[:, None] - 1e-7)
+    act = cand & (slope >= smax[:, None] - SLOPE_TOL)
     count = act.sum(axis=1)
     if count.max() > max_count:
         bad = int(np.argmax(count > max_count))
@@ -144,6 +150,38 @@ def active_contacts(layer: Layer, points, tangents, *, max_count: int = 2) -> Co
         for m, k in enumerate(ks):
             normal[n, m] = (r[n, k, 0] / d, r[n, k, 1] / d, z[n, k] / d)
     return Contacts(tuple(out_ids), count, normal, zmax)
+
+
+@dataclass(frozen=True)
+class Touching:
+    """The layer grains touching the upper grain at one position.
+
+    ``ids`` (K ids, lattice coordinates), ``normals`` (K, 3) unit contact normals (from the layer
+    grain into the upper grain), ``centres`` (K, 2) their horizontal centres, ``height`` the
+    height of the upper grain's centre.
+    """
+
+    ids: tuple
+    normals: np.ndarray
+    centres: np.ndarray
+    height: float
+
+
+def touching(layer: Layer, point) -> Touching:
+    """All the layer grains touching the upper grain at the horizontal position ``point``."""
+    d = layer.diameter
+    p = np.asarray(point, dtype=float).reshape(1, 2)
+    ids, centres = layer.grains(p)
+    r = layer.offsets(p, centres)[0]
+    rho2 = np.einsum("ki,ki->k", r, r)
+    if not np.any(rho2 < d * d):
+        raise FrictionRulesError(f"position = {tuple(p[0])!r} is off the layer: no layer grain "
+                                 f"within the diameter d = {d!r}")
+    z = np.sqrt(np.maximum(d * d - rho2, 0.0))
+    on = np.flatnonzero((rho2 < d * d) & (z >= z.max() - HEIGHT_TOL * d))
+    normals = np.concatenate((r[on], z[on, None]), axis=1) / d
+    return Touching(tuple(tuple(int(v) for v in ids[k]) for k in on), normals, centres[on],
+                    float(z.max()))
 
 
 def angles(normal, cylindrical: bool) -> tuple[np.ndarray, np.ndarray]:

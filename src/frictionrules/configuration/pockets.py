@@ -1,120 +1,179 @@
-r"""Breaking out of a pocket: which contacts slide when a grain at rest is pushed in any direction.
+r"""The grain at rest: which loads its contacts carry, and the break-out force out of a pocket.
 
-The grain rests in the pocket (the origin) on 2 (cylinder groove), 3 (hexagonal) or 4 (square)
-layer grains. A horizontal force :math:`T = t\,(\cos\beta, \sin\beta)` grows from zero; motion
-starts by one of the mechanisms
+A grain resting on K layer grains translates like a rigid block on K facets whose normals are
+the contact normals :math:`n_k` and whose local laws are the contacts' laws, each in its own
+frame (``docs/conventions.md``). So the set of horizontal loads it carries at the vertical load
+``Q`` is the inside of the limit curve of :class:`frictionrules.FacetSet`, and the *break-out
+force* in a load direction is the facet set's limit load
+``FacetSet(normals, law).limit_load(direction, Q)`` — exact: a root of a quadratic where the
+grain climbs over one layer grain (one facet slides, its local limit condition met), the
+solution of a 3×3 linear system where it rides the ridge between two (two facets slide along
+their intersection, :math:`V \parallel n_j\times n_k`), the smallest over the kinematically
+admissible mechanisms (the slip separates the grain from the other layer grains). Past it the
+grain softens, so it is the peak force in that direction.
 
-* **over one** grain k: contact k slides (the wedge (2.2) of contact k in its frame (3.11), on
-  its climbing branch :math:`T_1 > 0`), its slip (2.3) rotated by :math:`\psi_k`,
-  :math:`V = R(\psi_k)(e_1\cos\alpha, e_2, e_1\sin\alpha)`, must separate the grain from all the
-  other pocket grains, :math:`(p - c_j)\cdot V > 0`;
-* **over two** grains j, k at once (a ridge): the grain moves along the intersection of both
-  contact spheres, :math:`V \parallel n_j\times n_k` (upwards), both contacts slide with
-  :math:`N (n - \mu\hat V)`, and equilibrium
-  :math:`t\,e_\beta + N_j (n_j - \mu\hat V) + N_k (n_k - \mu\hat V) = Q e_z` needs
-  :math:`t, N_j, N_k \ge 0` and separation from the others.
-
-The break-out force is the smallest ``t`` over the admissible mechanisms (the first one the
-growing force meets); past it the grain softens, so it is the peak force in that direction.
+A grain touching one layer grain only (``SphereOnLayer(packing="single")``, the paper's
+one-contact model, or a grain part-way up a neighbour) cannot carry ``Q`` alone; its pull down
+the slope is taken to be held by the pocket it comes from (:meth:`GrainContact.climbing_limit`).
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
+from .._optional import require
+from ..asperities import FacetSet
 from ..errors import FrictionRulesError
-from .geometry import angles
-from .state import PeakForcePolar
+from ..laws import Coulomb
+from ._contact import GrainContact
+from .geometry import Touching, angles, touching
+from .state import GrainState, PeakForcePolar
+
+#: Loads up to this many ``Q`` along a ray are searched for the edge of a one-contact support;
+#: a ray still inside there never leaves it (an open branch of the limit curve).
+FAR = 1e6
 
 
-def pocket_contacts(model):
-    """Centres ``(K, 3)`` and unit normals ``(K, 3)`` of the grains touching the grain at rest."""
-    d = model.diameter
-    ids, centres = model.layer.grains(np.zeros((1, 2)))
-    r = model.layer.offsets(np.zeros((1, 2)), centres)[0]
-    rho = np.hypot(r[:, 0], r[:, 1])
-    z0 = np.sqrt(max(d * d - rho.min() ** 2, 0.0))
-    touch = np.abs(rho - rho.min()) <= 1e-9 * d
-    r = r[touch]
-    normals = np.concatenate((r, np.full((len(r), 1), z0)), axis=1) / d
-    return normals, [tuple(int(v) for v in i) for i in ids[touch]]
+@dataclass(frozen=True)
+class Mechanism:
+    """How the grain starts to move when the load reaches the edge of its support.
+
+    Attributes
+    ----------
+    load : float
+        The load factor along the load's direction at the edge (``inf`` where none starts).
+    contacts : tuple of int
+        Indices (into the support's contacts) of the sliding contacts; empty where no mechanism
+        starts (the support jams).
+    velocity : array (3,)
+        Unit grain velocity (zeros where none starts).
+    quasi_static : bool
+        False where the grain loses equilibrium without a mechanism of the local sliding rule
+        (:class:`frictionrules.FacetSet`, non-associated local laws).
+    """
+
+    load: float
+    contacts: tuple
+    velocity: np.ndarray
+    quasi_static: bool = True
 
 
-def _over_one(model, n, beta, others):
-    """Force magnitude for climbing over the contact with normal ``n`` under a force along
-    ``beta``, or ``inf`` if that mechanism is not admissible. The climbing branch of the limit
-    curve is scanned in the in-plane force angle (4000 points) and the crossing with the ray
-    ``beta`` interpolated linearly (relative error below 1e-6)."""
-    mu, Q = model.mu, model.Q
-    a, p = angles(n, False)            # alpha >= 0, up-slope azimuth psi (also for cylinders)
-    phi = np.linspace(-np.pi / 2, np.pi / 2, 4001)[1:-1]           # climbing branch e1 > 0
-    den = np.cos(a) - mu * np.cos(phi) * np.sin(a)
-    ok = den > 0
-    N = Q / np.where(ok, den, 1.0)
-    tp = np.stack((N * (np.sin(a) + mu * np.cos(phi) * np.cos(a)), mu * N * np.sin(phi)), axis=-1)
-    c, s = np.cos(p), np.sin(p)
-    T = np.stack((c * tp[:, 0] - s * tp[:, 1], s * tp[:, 0] + c * tp[:, 1]), axis=-1)
-    e = np.array([np.cos(beta), np.sin(beta)])
-    cross = T[:, 0] * e[1] - T[:, 1] * e[0]
-    along = T @ e
-    best = np.inf
-    for i in np.flatnonzero(ok[:-1] & ok[1:] & (np.sign(cross[:-1]) != np.sign(cross[1:]))):
-        w = cross[i] / (cross[i] - cross[i + 1])
-        f = phi[i] + w * (phi[i + 1] - phi[i])
-        t = along[i] + w * (along[i + 1] - along[i])
-        if t <= 0:
-            continue
-        vp = np.array([np.cos(f) * np.cos(a), np.sin(f), np.cos(f) * np.sin(a)])
-        V = np.array([c * vp[0] - s * vp[1], s * vp[0] + c * vp[1], vp[2]])
-        if all(np.dot(m, V) > 1e-12 for m in others):
-            best = min(best, t)
-    return best
+_JAMMED = Mechanism(np.inf, (), np.zeros(3))
 
 
-def _over_two(model, nj, nk, beta, others):
-    mu, Q = model.mu, model.Q
-    V = np.cross(nj, nk)
-    if np.linalg.norm(V) < 1e-12:
-        return np.inf
-    V /= np.linalg.norm(V)
-    if V[2] < 0 or (V[2] == 0 and np.dot(V[:2], [np.cos(beta), np.sin(beta)]) < 0):
-        V = -V
-    if not all(np.dot(m, V) > 1e-12 for m in others):
-        return np.inf
-    aj, ak = nj - mu * V, nk - mu * V
-    A = np.array([[np.cos(beta), aj[0], ak[0]], [np.sin(beta), aj[1], ak[1]], [0.0, aj[2], ak[2]]])
-    if abs(np.linalg.det(A)) < 1e-12:
-        return np.inf
-    t, Nj, Nk = np.linalg.solve(A, [0.0, 0.0, Q])
-    return t if min(t, Nj, Nk) >= -1e-12 else np.inf
+def facet_set(normals: np.ndarray, law) -> FacetSet:
+    """The contacts as the facets of a block, each with the local law ``law`` in its frame."""
+    if type(law) is Coulomb:
+        return FacetSet(normals, law.mu, "associated" if law.dilatant else "non-associated")
+    return FacetSet(normals, law)
 
 
-def breakout_force(model, directions) -> PeakForcePolar:
+@dataclass(frozen=True)
+class Support:
+    """The contacts of a grain at rest at one position and the loads they carry: several
+    contacts as a facet set (``facets``), a single one as a :class:`GrainContact` held down the
+    slope by the pocket the grain comes from (``contact``).
+
+    ``limit(T, Q)`` is negative inside (the grain sticks), zero on the edge (it starts to move,
+    :meth:`mechanism`), positive outside.
+    """
+
+    model: object
+    position: np.ndarray
+    touching: Touching
+    facets: FacetSet | None
+    contact: GrainContact | None
+
+    @classmethod
+    def at(cls, model, position) -> "Support":
+        position = np.asarray(position, dtype=float).reshape(2)
+        t = touching(model.layer, position)
+        if len(t.ids) == 1:
+            a, p = angles(t.normals[0], model.layer.cylindrical)
+            return cls(model, position, t, None, GrainContact(model.law, float(a), float(p)))
+        try:
+            facets = facet_set(t.normals, model.law)
+        except FrictionRulesError as exc:
+            raise FrictionRulesError(f"the grain at {tuple(position)!r} rests on the layer grains "
+                                     f"{t.ids}, which cannot carry it at rest: {exc}") from None
+        return cls(model, position, t, facets, None)
+
+    def limit(self, T, Q: float) -> np.ndarray:
+        T = np.asarray(T, dtype=float)
+        if self.facets is not None:
+            return self.facets.limit(T, np.full(T.shape[:-1], Q))
+        return self.contact.climbing_limit(T, np.full(T.shape[:-1], Q))
+
+    def _facet_mechanism(self, direction: np.ndarray, Q: float) -> Mechanism:
+        load = self.facets.limit_load(direction, Q)
+        if load.mechanism is None:
+            return _JAMMED
+        return Mechanism(float(load.load), tuple(int(k) for k in load.mechanism),
+                         np.asarray(load.velocity), bool(load.quasi_static))
+
+    def mechanism(self, T, Q: float) -> Mechanism:
+        """The mechanism that starts at the load ``T`` on the edge of the support. On one
+        contact it climbs where the load's in-plane part points up the slope; elsewhere the
+        grain would slide back down into the pocket, which is not followed (jammed)."""
+        T = np.asarray(T, dtype=float)
+        if self.facets is not None:
+            return self._facet_mechanism(T / np.hypot(*T), Q)
+        if self.contact.upslope_force(T, Q) <= 0:
+            return _JAMMED
+        return Mechanism(float(np.hypot(*T)), (0,), self.contact.slip_direction(T, Q))
+
+    def limit_load(self, direction: float, Q: float) -> Mechanism:
+        """The mechanism at the edge along the load direction ``direction`` (radians)."""
+        e = np.array([np.cos(direction), np.sin(direction)])
+        if self.facets is not None:
+            return self._facet_mechanism(e, Q)
+        if self.limit(FAR * Q * e, Q) <= 0:
+            return _JAMMED
+        t = crossing(lambda s: float(self.limit(s * e, Q)), 0.0, FAR * Q, Q)
+        return self.mechanism(t * e, Q)
+
+    def state(self, contacts: tuple, height: float | None = None) -> GrainState:
+        """The configuration with the contacts ``contacts`` (indices) sliding."""
+        n = self.touching.normals[list(contacts)]
+        a, p = angles(n, self.model.layer.cylindrical)
+        return GrainState(self.position.copy(), self.touching.height if height is None else height,
+                          tuple(self.touching.ids[k] for k in contacts),
+                          tuple(float(v) for v in a), tuple(float(v) for v in p))
+
+
+#: Relative tolerance of a crossing of the support's edge (a few ulps).
+CROSSING_RTOL = 4 * np.finfo(float).eps
+
+
+def crossing(fun, a: float, b: float, scale: float = 1.0) -> float:
+    """The root of ``fun`` in ``[a, b]`` where it changes sign (Brent's method, SciPy), to a few
+    ulps of the root or of ``scale``."""
+    brentq = require("scipy.optimize", extra="solvers").brentq
+    return float(brentq(fun, a, b, xtol=CROSSING_RTOL * scale, rtol=CROSSING_RTOL))
+
+
+def breakout_force(model, directions, Q: float) -> PeakForcePolar:
     """Break-out (peak) force of the grain at rest for forces along ``directions`` (radians).
 
     Returns a :class:`PeakForcePolar` whose ``direction`` is the force direction, ``peak`` the
-    force magnitude, ``start`` the force vector and ``count`` the number of layer grains the
-    grain climbs over (1 or 2). Raises :class:`FrictionRulesError` for a direction in which no
-    mechanism can start (the pocket jams).
+    force magnitude, ``start`` the force vector, ``count`` the number of layer grains the grain
+    climbs over (1 or 2) and ``mechanism`` their ids. Raises :class:`FrictionRulesError` for a
+    direction in which no mechanism can start (the pocket jams).
     """
-    normals, _ = pocket_contacts(model)
     beta = np.atleast_1d(np.asarray(directions, dtype=float))
-    peak = np.full(beta.shape, np.inf)
+    support = Support.at(model, np.zeros(2))
+    peak = np.zeros(beta.shape)
     count = np.zeros(beta.shape, dtype=int)
-    K = len(normals)
+    mechanism = []
     for i, b in enumerate(beta):
-        for k in range(K):
-            t = _over_one(model, normals[k], b, [normals[j] for j in range(K) if j != k])
-            if t < peak[i] - 1e-12:
-                peak[i], count[i] = t, 1
-        for j in range(K):
-            for k in range(j + 1, K):
-                t = _over_two(model, normals[j], normals[k], b,
-                              [normals[m] for m in range(K) if m not in (j, k)])
-                if t < peak[i] - 1e-12:
-                    peak[i], count[i] = t, 2
-        if not np.isfinite(peak[i]):
+        mech = support.limit_load(b, Q)
+        peak[i] = mech.load
+        if not mech.contacts:
             raise FrictionRulesError(f"directions[{i}] = {b!r}: no mechanism starts for a force "
                                      "in that direction (the pocket jams)")
+        count[i] = len(mech.contacts)
+        mechanism.append(tuple(support.touching.ids[k] for k in mech.contacts))
     start = peak[:, None] * np.stack((np.cos(beta), np.sin(beta)), axis=-1)
-    return PeakForcePolar(beta, peak, start, count)
+    return PeakForcePolar(beta, peak, start, count, tuple(mechanism))

@@ -98,13 +98,17 @@ class LimitPoint:
 
     ``index`` is the last point that sticks, ``fraction`` in [0, 1] locates the limit point on
     the increment to the next point (0 when the run starts on the limit curve), ``force`` is the
-    force there and ``state`` the configuration.
+    force there and ``state`` the configuration, whose ``contacts`` are the contacts that start
+    to slide (the mechanism: one, or two at once on a ridge). ``velocity`` (3,) is the unit
+    grain velocity of the mechanism (``Vz > 0`` upwards): displacement control along its
+    horizontal part continues past the limit point.
     """
 
     index: int
     fraction: float
     force: np.ndarray
     state: GrainState
+    velocity: np.ndarray | None = None
 
 
 @dataclass(frozen=True)
@@ -140,12 +144,23 @@ class ForceControlResult:
 class PeakForcePolar:
     """Direction-dependent peak force of a grain pushed out of its pocket.
 
-    ``direction`` (n,) is the direction of the horizontal displacement (radians), ``peak`` (n,)
-    the largest ``|T|`` on the way up, ``start`` (n, 2) the force at the start of the motion and
-    ``count`` (n,) how many layer grains the grain climbs over at once (1 or 2).
+    Attributes
+    ----------
+    direction : array (n,)
+        Direction of the horizontal force (``breakout_force``) or displacement
+        (``SphereOnLayer.peak_force``), radians.
+    peak : array (n,)
+        The peak ``|T|``: the break-out force, or the largest ``|T|`` on the way up.
+    start : array (n, 2)
+        The force at the start of the motion.
+    count : array (n,) of int
+        How many layer grains the grain climbs over at once (1 or 2).
+    mechanism : tuple
+        Per direction, the ids of the layer grains it climbs over.
     """
 
     direction: np.ndarray
     peak: np.ndarray
     start: np.ndarray
     count: np.ndarray
+    mechanism: tuple = ()
