@@ -11,7 +11,6 @@ THETA = np.linspace(-np.pi, np.pi, 145)
 
 def sawtooth(x, period, rise, fall):
     """Periodic profile rising at slope ``rise`` over a fraction, falling at ``fall``."""
-    a = rise * fall / (rise + fall)     # fraction of the period on the rising flank
     frac = (x / period) % 1.0
     xr = fall / (rise + fall)
     return np.where(frac < xr, rise * frac, rise * xr - fall * (frac - xr)) * period

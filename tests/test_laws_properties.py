@@ -10,7 +10,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from frictionrules import Coulomb, EllipticOrthotropic, FrictionLaw, Huber, TransformedCoulomb, WedgeAsperity
+from frictionrules import Coulomb, EllipticOrthotropic, Huber, TransformedCoulomb, WedgeAsperity
 from frictionrules.laws._inverse import inverse_relation
 from frictionrules.laws._symbolic import derived, form_of
 

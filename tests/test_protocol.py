@@ -8,7 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from frictionrules import (Cone, ContactModel, ContactState, Coulomb, EllipsoidCap, EllipticOrthotropic,
-                           FacetSet, FrictionContactProblem, FrictionRulesError, HardenedLaw, Huber,
+                           FacetSet, FrictionContactProblem, FrictionRulesError, Huber,
                            LawState, SlipHardening, TransformedCoulomb, UserLaw, WedgeAsperity, solve)
 
 NORM = "sqrt(T1**2 + T2**2)"

@@ -32,7 +32,7 @@ from ._hull import TOL, cross, facet_frames, unit
 from ._inverse import directions, nearest_on_segments
 from ._local import wrap
 from ._results import Mechanisms
-from ._roots import bracketed_root, golden_min
+from .._roots import bracketed_root, golden_min
 
 #: Samples on a cone's boundary when intersecting two dilatancy cones.
 BOUNDARY_SAMPLES = 720

@@ -8,14 +8,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._roots import bisect_boundary, golden_min
 from ._hull import TOL, unit
 from ._results import Corner
 
 #: Directions of the support-point search of the associated inverse.
 CURVE_POINTS = 4096
-#: Bisection steps on a load direction (corners, slip directions): 2 pi / 2**60 is below
-#: double precision.
-BISECTIONS = 60
 
 
 def directions(phi: np.ndarray) -> np.ndarray:
@@ -28,13 +26,12 @@ def corners(solver, lo: np.ndarray, hi: np.ndarray, before: list, Q: float) -> l
     lo, hi = np.array(lo, dtype=float), np.array(hi, dtype=float)
     if len(lo) == 0:
         return []
-    for _ in range(BISECTIONS):
-        if np.all(hi - lo <= 4.0 * np.finfo(float).eps * np.maximum(1.0, np.abs(lo))):
-            break                                   # adjacent doubles: nothing left to halve
-        mid = 0.5 * (lo + hi)
+
+    def same(mid):
         s = solver.solve(directions(mid))
-        same = np.array([s.mechanism(i) == b for i, b in enumerate(before)])
-        lo, hi = np.where(same, mid, lo), np.where(same, hi, mid)
+        return np.array([s.mechanism(i) == b for i, b in enumerate(before)])
+
+    lo, hi = bisect_boundary(same, lo, hi)
     s_lo, s_hi = solver.solve(directions(lo)), solver.solve(directions(hi))
     phi = 0.5 * (lo + hi)
     out = []
@@ -106,7 +103,6 @@ def support_force(solver, u: np.ndarray) -> np.ndarray:
     # (u.T(phi) is unimodal there: the curve is convex)
     step = 2.0 * np.pi / CURVE_POINTS
     lo, hi = phi[fin][i] - step, phi[fin][i] + step
-    g = 0.5 * (np.sqrt(5.0) - 1.0)
 
     def height(ph):
         e = directions(ph)
@@ -114,12 +110,8 @@ def support_force(solver, u: np.ndarray) -> np.ndarray:
         fin = np.isfinite(tt)
         return np.where(fin, np.sum(u * e, axis=-1) * np.where(fin, tt, 0.0), -np.inf), tt, e
 
-    for _ in range(40):
-        a, b = hi - g * (hi - lo), lo + g * (hi - lo)
-        left = height(a)[0] >= height(b)[0]
-        hi = np.where(left, b, hi)
-        lo = np.where(left, lo, a)
-    h, tt, e = height(0.5 * (lo + hi))
+    best, _ = golden_min(lambda ph: -height(ph)[0], lo, hi, iters=40)
+    h, tt, e = height(best)
     out = np.where((h >= np.sum(u * P[i], axis=-1))[:, None] & np.isfinite(tt)[:, None],
                    np.where(np.isfinite(tt), tt, 0.0)[:, None] * e, P[i])
     # an unbounded convex region contains its locked directions: the support is infinite

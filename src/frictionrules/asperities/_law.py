@@ -18,7 +18,7 @@ from ..errors import FrictionRulesError, check_finite, check_scalar
 from ..laws import FrictionLaw, InverseRelation
 from ._hull import unit
 from ._inverse import corners, directions
-from ._results import LimitCurve, LimitLoad, LimitLoads
+from ._results import LimitCurve, LimitLoads
 
 _FLIP = np.array([1.0, 1.0, -1.0])   # d/dF -> d/d(Tx, Ty, Q) with F = (Tx, Ty, -Q)
 

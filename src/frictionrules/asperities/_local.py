@@ -31,7 +31,7 @@ import numpy as np
 
 from ..errors import FrictionRulesError
 from ..laws import Cone, require
-from ._roots import bracketed_root, golden_min
+from .._roots import bracketed_root, golden_min
 
 #: Samples of a law's limit curve (at N = 1) for brackets of its inverse relation.
 CURVE_SAMPLES = 720

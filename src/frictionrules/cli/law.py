@@ -215,7 +215,7 @@ def run(args) -> int:
                                       if sd is not None else f"none ({out['state']})"))
     source = {"--theta": "given", "slip": "the slip angle", "force": "the direction of T"}
     print(f"slip angle theta      {out['theta']:.6g} {unit}  ({source[out['theta_from']]})")
-    print(f"mu(theta)             " + ("inf  (locked: no finite force slides at theta)" if out["locked"]
+    print("mu(theta)             " + ("inf  (locked: no finite force slides at theta)" if out["locked"]
                                        else f"{out['friction_coefficient']:.6g}"))
     if "force_angle" in out:
         print(f"limit force at theta  angle beta = {out['force_angle']:.6g} {unit}, "

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._optional import require
+from .._roots import brent
 from ..asperities import FacetSet
 from ..errors import FrictionRulesError
 from ..laws import Coulomb
@@ -148,10 +148,9 @@ CROSSING_RTOL = 4 * np.finfo(float).eps
 
 
 def crossing(fun, a: float, b: float, scale: float = 1.0) -> float:
-    """The root of ``fun`` in ``[a, b]`` where it changes sign (Brent's method, SciPy), to a few
-    ulps of the root or of ``scale``."""
-    brentq = require("scipy.optimize", extra="solvers").brentq
-    return float(brentq(fun, a, b, xtol=CROSSING_RTOL * scale, rtol=CROSSING_RTOL))
+    """The root of ``fun`` in ``[a, b]`` where it changes sign (Brent's method), to a few ulps
+    of the root or of ``scale``."""
+    return float(brent(fun, a, b, fun(a), fun(b), xtol=CROSSING_RTOL * scale))
 
 
 def breakout_force(model, directions, Q: float) -> PeakForcePolar:

@@ -9,59 +9,15 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import FrictionRulesError
+from .._roots import bisect_boundary, brent
 from ._records import InverseRelation
 
 _GRID = 720          # points on the limit curve scanned for brackets
 _MAX_DOUBLINGS = 60  # radial bracket growth before a direction is called unbounded
-_EPS = np.finfo(float).eps
 
 
 def _wrap(a: np.ndarray) -> np.ndarray:
     return (a + np.pi) % (2.0 * np.pi) - np.pi
-
-
-def brent(fun, a: float, b: float, fa: float, fb: float, xtol: float = 1e-15,
-          max_iter: int = 200) -> float:
-    """A root of ``fun`` in ``[a, b]`` with ``fa * fb <= 0`` by Brent's method (inverse quadratic
-    interpolation, secant and bisection steps; Brent 1973, ch. 4)."""
-    if fa == 0.0:
-        return a
-    if fb == 0.0:
-        return b
-    c, fc = a, fa
-    d = e = b - a
-    for _ in range(max_iter):
-        if fb * fc > 0:
-            c, fc = a, fa
-            d = e = b - a
-        if abs(fc) < abs(fb):
-            a, b, c = b, c, b
-            fa, fb, fc = fb, fc, fb
-        tol = 2.0 * _EPS * abs(b) + 0.5 * xtol
-        m = 0.5 * (c - b)
-        if abs(m) <= tol or fb == 0.0:
-            return b
-        if abs(e) >= tol and abs(fa) > abs(fb):
-            s = fb / fa
-            if a == c:
-                p, q = 2.0 * m * s, 1.0 - s
-            else:
-                qq, r = fa / fc, fb / fc
-                p = s * (2.0 * m * qq * (qq - r) - (b - a) * (r - 1.0))
-                q = (qq - 1.0) * (r - 1.0) * (s - 1.0)
-            if p > 0:
-                q = -q
-            p = abs(p)
-            if 2.0 * p < min(3.0 * m * q - abs(tol * q), abs(e * q)):
-                e, d = d, p / q
-            else:
-                d = e = m
-        else:
-            d = e = m
-        a, fa = b, fb
-        b += d if abs(d) > tol else (tol if m > 0 else -tol)
-        fb = fun(b)
-    return b
 
 
 def _radius(law, centre: np.ndarray, n: float, phi: np.ndarray, scale: float, q) -> np.ndarray:
@@ -81,13 +37,7 @@ def _radius(law, centre: np.ndarray, n: float, phi: np.ndarray, scale: float, q)
         lo = np.where(grow, hi, lo)
         hi = np.where(grow, 2.0 * hi, hi)
     unbounded = f(hi) <= 0
-    for _ in range(200):
-        mid = 0.5 * (lo + hi)
-        inside = f(mid) <= 0
-        lo = np.where(inside, mid, lo)
-        hi = np.where(inside, hi, mid)
-        if np.all(hi - lo <= 4e-16 * np.maximum(hi, 1e-300)):
-            break
+    lo, hi = bisect_boundary(lambda r: f(r) <= 0, lo, np.where(unbounded, lo, hi), steps=200, scale=0.0)
     r = 0.5 * (lo + hi)
     return np.where(unbounded, np.inf, r)
 

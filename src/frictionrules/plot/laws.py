@@ -26,11 +26,11 @@ def coulomb_cone(ax=None, mu: float = 0.5, n_max: float = 1.0):
     N0 = 0.8 * n_max
     T0 = np.array([mu * N0 * np.cos(0.6), mu * N0 * np.sin(0.6)])
     L = 0.35 * n_max
-    for dilatant, color, label in ((False, "tab:red", "(1.5) no normal slip"),
+    for dilatant, color, text in ((False, "tab:red", "(1.5) no normal slip"),
                                    (True, "tab:green", "(1.6) associated, dilatant")):
         v = Coulomb(mu, dilatant).slip_direction(T0, N0)
         # a slip (v1, v2, vn) is drawn in force space as (v1, v2, -vn): conjugate to (T, -N)
-        ax.quiver(T0[0], T0[1], N0, L * v[0], L * v[1], -L * v[2], color=color, label=label)
+        ax.quiver(T0[0], T0[1], N0, L * v[0], L * v[1], -L * v[2], color=color, label=text)
     ax.scatter(*T0, N0, color="k", label="a limit force $(T, N)$ on the cone")
     ax.set_xlabel("$T_x$")
     ax.set_ylabel("$T_y$")
