@@ -13,7 +13,7 @@ from hypothesis import strategies as st
 from frictionrules import Coulomb, EllipticOrthotropic, GrainContact, UserLaw, WedgeAsperity
 from frictionrules.configuration._contact import contact_terms, slide
 from frictionrules.configuration._frame import angle_rates, frames, offset_of_angles
-from frictionrules.laws.base import rotate
+from frictionrules._rotation import rotate
 
 t = sp.symbols("t", real=True)
 R, Q, mu, c = sp.symbols("R Q mu c", positive=True)

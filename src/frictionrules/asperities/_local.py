@@ -31,6 +31,7 @@ import numpy as np
 
 from ..errors import FrictionRulesError
 from ..laws import Cone, require
+from .._rotation import rotation
 from .._roots import bracketed_root, golden_min
 
 #: Samples of a law's limit curve (at N = 1) for brackets of its inverse relation.
@@ -152,8 +153,7 @@ class ConeLocal(_Local):
     def __init__(self, law, mu_x, mu_y, angle, d, twin_of=False):
         self.law, self.twin_of = law, twin_of
         self.cone = Cone(float(mu_x), float(mu_y), float(angle), float(d))
-        c, s = np.cos(angle), np.sin(angle)
-        R = np.array([[c, -s], [s, c]])
+        R = rotation(angle)
         self.M = R @ np.diag([1.0 / mu_x**2, 1.0 / mu_y**2]) @ R.T
         self.dilatant = d != 0.0
         self.associated = d == 1.0

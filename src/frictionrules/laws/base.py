@@ -80,15 +80,6 @@ def _short(law) -> str:
     return text if len(text) <= 120 else text[:117] + "..."
 
 
-def rotate(v: np.ndarray, angle: float) -> np.ndarray:
-    """Rotate the 2-vectors ``v[..., :2]`` counter-clockwise by ``angle`` (radians)."""
-    if angle == 0.0:
-        return v
-    c, s = np.cos(angle), np.sin(angle)
-    x, y = v[..., 0], v[..., 1]
-    return np.stack((c * x - s * y, s * x + c * y), axis=-1)
-
-
 def safe_ratio(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """``a / b`` where ``b > 0`` and 0 where ``b == 0``: the minimal-norm subgradient at a kink."""
     a, b = np.broadcast_arrays(a, b)

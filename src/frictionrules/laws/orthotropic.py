@@ -24,7 +24,8 @@ import numpy as np
 
 from ..errors import check_scalar
 from ._records import Cone, InverseRelation
-from .base import FrictionLaw, rotate, safe_ratio
+from .._rotation import rotate
+from .base import FrictionLaw, safe_ratio
 
 __all__ = ["EllipticOrthotropic", "Huber", "TransformedCoulomb"]
 
@@ -159,11 +160,7 @@ class EllipticOrthotropic(_EllipseLimit):
         ga *= inv
         gb *= inv
         v = np.zeros(shape + (3,))
-        c, s = np.cos(self.angle), np.sin(self.angle)
-        if self.angle == 0.0:
-            v[..., 0], v[..., 1] = ga, gb
-        else:
-            v[..., 0], v[..., 1] = c * ga - s * gb, s * ga + c * gb
+        v[..., :2] = rotate(np.stack((ga, gb), axis=-1), self.angle)
         return v
 
     def symbolic_form(self):

@@ -44,6 +44,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._optional import require
+from .._rotation import rotation
 from ..errors import FrictionRulesError, check_finite
 
 __all__ = ["FrictionContactProblem", "Solution"]
@@ -69,8 +70,7 @@ def _coerce_matrix(W):
 
 def _ellipse_frame(mu_x: float, mu_y: float, angle: float):
     mbar = float(np.sqrt(mu_x * mu_y))
-    c, s = np.cos(angle), np.sin(angle)
-    A = np.array([[c, -s], [s, c]]) @ np.diag([mu_x, mu_y]) / mbar
+    A = rotation(angle) @ np.diag([mu_x, mu_y]) / mbar
     return mbar, A
 
 
