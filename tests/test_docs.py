@@ -70,8 +70,6 @@ def _cases():
 
 
 CASES = list(_cases())
-#: The shared test data, beside the repository.
-SHARED = ROOT.parent / "shared"
 
 
 def _check_no_silent_expressions(code: str, where: str) -> None:
@@ -93,17 +91,7 @@ def _check_output(got: str, expected: str, where: str) -> None:
 
 @pytest.mark.parametrize("lang, code, expected, page, line", CASES)
 def test_code_block(lang, code, expected, page, line, tmp_path, monkeypatch, capsys):
-    """Each block runs in a fresh folder beside a ``shared`` link, so that ``../shared`` (the
-    repository's test data, checked out beside it) reads as it does from the repository."""
     where = f"{page}:{line}"
-    if "../shared" in code:
-        if not SHARED.is_dir():
-            if os.environ.get("CI") == "true":
-                pytest.fail(f"{where} reads ../shared, missing at {SHARED}")
-            pytest.skip(f"../shared is missing at {SHARED}")
-        (tmp_path / "shared").symlink_to(SHARED)
-    tmp_path = tmp_path / "work"
-    tmp_path.mkdir()
     if lang == "python":
         _check_no_silent_expressions(code, where)
         monkeypatch.chdir(tmp_path)
