@@ -119,3 +119,13 @@ def test_public_api_is_exported():
                  "EllipsoidCap", "SlipHardening", "drive", "FrictionContactProblem", "solve",
                  "read_fclib", "write_fclib"):
         assert name in frictionrules.__all__
+
+
+def test_no_control_characters_in_sources():
+    """A TAB or a backspace in a docstring is an escape gone wrong (``"\tau"`` outside a raw
+    string): it corrupts the rendered formula."""
+    root = Path(frictionrules.__file__).parent
+    bad = [f"{p.relative_to(root)}:{i}" for p in sorted(root.rglob("*.py"))
+           for i, line in enumerate(p.read_text().splitlines(), 1)
+           if any(c in line for c in "\t\b\f\v\a")]
+    assert not bad, bad

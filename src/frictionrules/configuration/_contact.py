@@ -296,7 +296,7 @@ def slide(law, axes: np.ndarray, direction, Q) -> Slide:
 
     The horizontal direction lifted onto the tangent plane, :math:`V \propto (e, -e\cdot n_h /
     n_z)`, is the slip; the local inverse relation gives the force per unit N,
-    :math:`a = 	au_1 t_1 + 	au_2 t_2 - n` (:func:`carried_force`), and vertical equilibrium
+    :math:`a = \tau_1 t_1 + \tau_2 t_2 - n` (:func:`carried_force`), and vertical equilibrium
     :math:`N a_z = -Q` the normal force: :math:`T = N a_h` ((2.1) with the inverse relation;
     for local Coulomb friction the closed form of ``WedgeAsperity.force_for_slip``).
     """

@@ -314,7 +314,7 @@ def cap_update(e, p, kappa, beta, du, kt, kn, m, om, p_, h, kh, b,
     :math:`N = (N^{tr} + 2k_n\omega\Delta\lambda A)/(1 + 2k_n\omega\Delta\lambda)`; Newton's method
     with backtracking solves the remaining three equations ``f = 0``,
     :math:`\kappa = \kappa_n + 2\Delta\lambda|T|/m^2`,
-    :math:`eta = eta_n + 2\omega\Delta\lambda B(eta)(N - A)` for ``(Δλ, κ, β)``.
+    :math:`\beta = \beta_n + 2\omega\Delta\lambda B(\beta)(N - A)` for ``(Δλ, κ, β)``.
     A contact whose iteration fails gets status -1 (the caller falls back to the generic path).
     """
     m2 = m * m
