@@ -1,0 +1,13 @@
+"""Code generation from a law's symbolic form: one program, several printers.
+
+:func:`local_program` turns a :class:`~frictionrules.laws.SymbolicLaw` into straight-line code —
+common subexpressions, then every quantity the implicit return mapping needs (f, g's gradient,
+the evolution h of the internal variables and their derivatives) in one fixed layout. Printers
+write that program in a target language; the compiled return mapping of
+:mod:`frictionrules.contact` prints it for Numba.
+"""
+
+from ._program import LOCAL_FIELDS, Program, local_layout, local_program
+from ._python import python_function
+
+__all__ = ["LOCAL_FIELDS", "Program", "local_layout", "local_program", "python_function"]
