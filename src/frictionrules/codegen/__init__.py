@@ -8,6 +8,7 @@ write that program in a target language; the compiled return mapping of
 """
 
 from ._program import LOCAL_FIELDS, Program, local_layout, local_program
-from ._python import python_function
+from ._python import parameter_temps, python_function
 
-__all__ = ["LOCAL_FIELDS", "Program", "local_layout", "local_program", "python_function"]
+__all__ = ["LOCAL_FIELDS", "Program", "local_layout", "local_program", "python_function",
+           "parameter_temps"]

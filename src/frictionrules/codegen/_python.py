@@ -2,10 +2,26 @@
 
 from __future__ import annotations
 
-__all__ = ["python_function"]
+__all__ = ["python_function", "parameter_temps"]
 
 
-def python_function(program, name: str, decorator: str = "", finite_derivatives: bool = False) -> str:
+def parameter_temps(program) -> tuple:
+    """The program's common subexpressions that depend on the parameters only, in order:
+    ``(symbol, expression)`` pairs, each in the parameters ``p0, p1, ...`` and the earlier
+    such subexpressions (e.g. ``sin(angle)``, ``1/mu_x**2``): computed once per law, not once
+    per contact."""
+    params = {f"p{i}" for i in range(program.nparams)}
+    known, out = set(), []
+    for sym, expr in program.temps:
+        names = {str(s) for s in expr.free_symbols}
+        if names <= params | known:
+            known.add(str(sym))
+            out.append((sym, expr))
+    return tuple(out)
+
+
+def python_function(program, name: str, decorator: str = "", finite_derivatives: bool = False,
+                    hoisted_offset: int | None = None) -> str:
     """Source of ``def name(x0, x1, x2, q, p, w)`` writing the program's outputs into ``w``.
 
     ``q`` and ``p`` hold the internal variables and the parameters, ``w`` the flat layout
@@ -13,7 +29,9 @@ def python_function(program, name: str, decorator: str = "", finite_derivatives:
     ``cfunc``). Slots the program does not compute are left untouched. With
     ``finite_derivatives``, every slot but f is written as 0 where its value is not finite (the
     minimal-norm subgradient at a kink such as the apex of a cone, where the symbolic
-    derivative is 0/0); ``v - v == 0`` holds exactly for finite ``v`` only.
+    derivative is 0/0); ``v - v == 0`` holds exactly for finite ``v`` only. With
+    ``hoisted_offset``, the :func:`parameter_temps` are read from ``p[hoisted_offset + k]``
+    instead of being recomputed (the caller appends their values to the parameters).
     """
     from sympy.printing.pycode import PythonCodePrinter
 
@@ -22,7 +40,13 @@ def python_function(program, name: str, decorator: str = "", finite_derivatives:
     lines.append(f"def {name}(x0, x1, x2, q, p, w):")
     lines += [f"    q{i} = q[{i}]" for i in range(program.nq)]
     lines += [f"    p{i} = p[{i}]" for i in range(program.nparams)]
-    lines += [f"    {s} = {printer.doprint(e)}" for s, e in program.temps]
+    hoisted = {sym: k for k, (sym, _) in enumerate(parameter_temps(program))} \
+        if hoisted_offset is not None else {}
+    for sym, expr in program.temps:
+        if sym in hoisted:
+            lines.append(f"    {sym} = p[{hoisted_offset + hoisted[sym]}]")
+        else:
+            lines.append(f"    {sym} = {printer.doprint(expr)}")
     for k, e in program.outputs:
         value = printer.doprint(e)
         if finite_derivatives and k > 0 and not e.is_number:
