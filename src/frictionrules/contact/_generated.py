@@ -203,7 +203,6 @@ def generated_step(law, kt, kn, e, p, q, du, kappa_index, tangent: bool):
     contacts whose iteration failed (the caller substeps those with the NumPy return mapping)
     and the consistent tangents ``(n, 3, 3)`` (None unless ``tangent``).
     """
-    from ..laws import form_of
     from ._step import Step
     kernel = generated_kernel(law)
     consts = np.concatenate(([kt, kn, -1.0 if kappa_index is None else float(kappa_index)],
