@@ -301,6 +301,58 @@ def _apex_region(lf, l1, l2, clip, sig_tr, q, p, dv, w):
     return w[OFF_DG + 2] > 0.0 and sig_tr[2] * dv[0] * gt <= tt * dv[2] * w[OFF_DG + 2]
 
 
+@njit(error_model="numpy", _nrt=False)
+def _tangent_cone(w, lam, dv, out):
+    """Consistent tangent of a law without internal variables, in closed form: with
+    ``A = I + Δλ D ∇²g``, ``u = A⁻¹ D∇g``, ``v = ∇f A⁻¹``,
+    ``dσ/dσ_trial = A⁻¹ - u v / (v·D∇g)`` (the σ-block of the inverse Jacobian), times
+    ``E = diag(kt, kt, -kn)``, into ``out`` (3, 3). False where A or the Schur complement is
+    singular (the caller factorizes the whole Jacobian)."""
+    h = 7  # offset of ∇²g for nq = 0
+    a00 = 1.0 + lam * dv[0] * w[h]
+    a01 = lam * dv[0] * w[h + 1]
+    a02 = lam * dv[0] * w[h + 2]
+    a10 = lam * dv[1] * w[h + 3]
+    a11 = 1.0 + lam * dv[1] * w[h + 4]
+    a12 = lam * dv[1] * w[h + 5]
+    a20 = lam * dv[2] * w[h + 6]
+    a21 = lam * dv[2] * w[h + 7]
+    a22 = 1.0 + lam * dv[2] * w[h + 8]
+    c00 = a11 * a22 - a12 * a21
+    c01 = a02 * a21 - a01 * a22
+    c02 = a01 * a12 - a02 * a11
+    det = a00 * c00 + a10 * c01 + a20 * c02
+    if det == 0.0 or not math.isfinite(det):
+        return False
+    r = 1.0 / det
+    b00, b01, b02 = c00 * r, c01 * r, c02 * r
+    b10, b11, b12 = (a12 * a20 - a10 * a22) * r, (a00 * a22 - a02 * a20) * r, (a02 * a10 - a00 * a12) * r
+    b20, b21, b22 = (a10 * a21 - a11 * a20) * r, (a01 * a20 - a00 * a21) * r, (a00 * a11 - a01 * a10) * r
+    g0, g1, g2 = dv[0] * w[4], dv[1] * w[5], dv[2] * w[6]
+    f0, f1, f2 = w[1], w[2], w[3]
+    u0 = b00 * g0 + b01 * g1 + b02 * g2
+    u1 = b10 * g0 + b11 * g1 + b12 * g2
+    u2 = b20 * g0 + b21 * g1 + b22 * g2
+    v0 = f0 * b00 + f1 * b10 + f2 * b20
+    v1 = f0 * b01 + f1 * b11 + f2 * b21
+    v2 = f0 * b02 + f1 * b12 + f2 * b22
+    s = f0 * u0 + f1 * u1 + f2 * u2
+    if s == 0.0 or not math.isfinite(s):
+        return False
+    k = 1.0 / s
+    e0, e2 = dv[0], -dv[2]
+    out[0, 0] = (b00 - u0 * v0 * k) * e0
+    out[0, 1] = (b01 - u0 * v1 * k) * e0
+    out[0, 2] = (b02 - u0 * v2 * k) * e2
+    out[1, 0] = (b10 - u1 * v0 * k) * e0
+    out[1, 1] = (b11 - u1 * v1 * k) * e0
+    out[1, 2] = (b12 - u1 * v2 * k) * e2
+    out[2, 0] = (b20 - u2 * v0 * k) * e0
+    out[2, 1] = (b21 - u2 * v1 * k) * e0
+    out[2, 2] = (b22 - u2 * v2 * k) * e2
+    return True
+
+
 @njit(inline="always", error_model="numpy", _nrt=False)
 def _one(lf, l1, l2, clip, i, e, pl, q, du, kappa_col, e1, p1, q1, res, status, failed,
          tangent, want_tangent, sig_tr, dv, p, qn, V, x, step, w, wk, J, piv):
@@ -382,6 +434,8 @@ def _one(lf, l1, l2, clip, i, e, pl, q, du, kappa_col, e1, p1, q1, res, status, 
         elif kind == _PLASTIC:
             # dσ/dσ_trial: the σ-block of the inverse (unscaled) Jacobian, times E.
             _eval(lf, l1, l2, clip, x[0], x[1], x[2], x[3:3 + NQ], p, w, 2)
+            if NQ == 0 and _tangent_cone(w, dlam, dv, tangent[i]):
+                return
             _jacobian(w, dlam, dv, J)
             if _factor(J, piv):
                 for c in range(3):
