@@ -30,9 +30,9 @@ def _printer(prefix: str):
 
 def c_helpers(prefix: str) -> str:
     """The guarded reciprocal and sign the printed functions call (static, one per file)."""
-    return (f"static double {prefix}_inv(double x)\n{{\n"
+    return (f"static inline double {prefix}_inv(double x)\n{{\n"
             "    return fabs(x) > 1e-300 ? 1.0 / x : 0.0;\n}\n\n"
-            f"static double {prefix}_sgn(double x)\n{{\n"
+            f"static inline double {prefix}_sgn(double x)\n{{\n"
             "    return (double)((x > 0.0) - (x < 0.0));\n}\n")
 
 
