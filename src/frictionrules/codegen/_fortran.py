@@ -34,6 +34,13 @@ def _printer(prefix: str):
     return FCodePrinter({"source_format": "free", "standard": 77, "user_functions": names})
 
 
+def _expression(printer, expr) -> str:
+    """One expression on one line (the printer's own free-form wrapping undone: statements
+    are broken by :func:`fixed_form`)."""
+    text = printer.doprint(expr)
+    return re.sub(r"\s*&\s*\n\s*&?\s*", " ", text).strip()
+
+
 def fortran_helpers(prefix: str) -> str:
     """The guarded reciprocal ``<prefix>IV`` and sign ``<prefix>SG`` the printed subroutines
     call (fixed form)."""
@@ -88,8 +95,8 @@ def fortran_subroutine(program, name: str, prefix: str) -> str:
     if unused:  # referenced once, so that -Wall has nothing to say
         out += fixed_form(f"IF (.FALSE.) W(1) = {' + '.join(unused)}")
     for s, e in program.temps:
-        out += fixed_form(f"{str(s).upper()} = {printer.doprint(guarded(e, prefix))}")
+        out += fixed_form(f"{str(s).upper()} = {_expression(printer, guarded(e, prefix))}")
     for k, e in program.outputs:
-        out += fixed_form(f"W({k + 1}) = {printer.doprint(guarded(e, prefix))}")
+        out += fixed_form(f"W({k + 1}) = {_expression(printer, guarded(e, prefix))}")
     out += ["      RETURN", "      END"]
     return "\n".join(out) + "\n"
