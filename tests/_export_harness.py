@@ -145,3 +145,38 @@ class Fric:
                  ctypes.c_size_t(80))
         return (lm_c.value, tau, ddtddg, ddtddp, dslip, sed.value, sfd.value, pnewdt.value,
                 statev)
+
+
+class Uinter:
+    """Abaqus/Standard's call of UINTER (every argument by reference, CHARACTER lengths last)."""
+
+    def __init__(self, lib):
+        self.fun = lib.uinter_
+        self.fun.restype = None
+
+    def call(self, statev, rdisp, drdisp, props, ndir, lopenclose=1):
+        """One call; returns ``(stress, ddsddr, statev, sed, sfd, spd, pnewdt, lstate, lsdi)``."""
+        n = ndir
+        statev, rdisp, drdisp, props = (_d(statev).copy(), _d(rdisp), _d(drdisp), _d(props))
+        stress, ddsddr = np.zeros(n), np.zeros((n, n), order="F")
+        flux, ddfddt = np.zeros(2), np.zeros((2, 2), order="F")
+        ddsddt, ddfddr = np.zeros((n, 2), order="F"), np.zeros((2, n), order="F")
+        sed, sfd, spd, svd, scd = (ctypes.c_double(0) for _ in range(5))
+        pnewdt = ctypes.c_double(1.0)
+        temp, dtemp, time = np.zeros(2), np.zeros(2), np.zeros(2)
+        predef, dpred = np.zeros((2, 1), order="F"), np.zeros((2, 1), order="F")
+        coords, alocal, drot = np.zeros(3), np.eye(3, order="F"), np.eye(2, order="F")
+        lstate, lsdi = ctypes.c_int(0), ctypes.c_int(0)
+        name = ctypes.create_string_buffer(b" " * 80, 80)
+        d = ctypes.byref
+        self.fun(_p(stress), _p(ddsddr), _p(flux), _p(ddfddt), _p(ddsddt), _p(ddfddr),
+                 _p(statev), d(sed), d(sfd), d(spd), d(svd), d(scd), d(pnewdt), _p(rdisp),
+                 _p(drdisp), _p(temp), _p(dtemp), _p(predef), _p(dpred), _p(time),
+                 d(ctypes.c_double(1.0)), d(ctypes.c_double(0.0)), name, name, name,
+                 _p(props), _p(coords), _p(alocal), _p(drot), d(ctypes.c_double(1.0)),
+                 d(ctypes.c_double(1.0)), _i(1), _i(n), _i(len(statev)), _i(1),
+                 _i(len(props)), _i(3), _i(1), _i(1), _i(0), _i(0), _i(lopenclose),
+                 d(lstate), d(lsdi), _i(0), ctypes.c_size_t(80), ctypes.c_size_t(80),
+                 ctypes.c_size_t(80))
+        return (stress, ddsddr, statev, sed.value, sfd.value, spd.value, pnewdt.value,
+                lstate.value, lsdi.value)

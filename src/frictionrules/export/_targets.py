@@ -115,3 +115,37 @@ def write_fric(spec) -> Written:
     text = refit(text + body + law_subroutines(spec))
     return Written({f"{spec.name}_fric.f": text}, props, tuple(entries), tuple(state),
                    unsymmetric_tangent(spec))
+
+
+def write_uinter(spec) -> Written:
+    from ._f_template import UINTER
+    from ._fortran import header, law_subroutines, parameter_block, prefix, refit
+    if spec.kn is None:
+        raise FrictionRulesError("kn = None violates: target 'abaqus-uinter' needs the normal "
+                                 "penalty stiffness kn > 0")
+    entries = [*_param_entries(spec),
+               Entry("kn", "normal penalty stiffness (pressure per unit overclosure)",
+                     "stress/length"),
+               Entry("kt", "elastic-slip stiffness (shear stress per unit elastic slip)",
+                     "stress/length")]
+    state = [*_state_entries(spec),
+             Entry("de_t1", "elastic slip along local direction 1", "length"),
+             Entry("de_t2", "elastic slip along local direction 2 (0 in 2-D)", "length"),
+             Entry("de_n", "elastic normal displacement (positive opening)", "length"),
+             Entry("dp_t1", "plastic slip along local direction 1", "length"),
+             Entry("dp_t2", "plastic slip along local direction 2", "length"),
+             Entry("dp_n", "plastic normal displacement (positive opening: dilatancy)",
+                   "length")]
+    props = (*spec.param_values, spec.kn, spec.kt)
+    lines = ["", "Abaqus/Standard UINTER: the whole interface law, normal penalty kn and "
+             "elastic-slip stiffness kt, implicit return map, consistent tangent DDSDDR "
+             "(STRESS = pressure, shear 1, shear 2; RDISP = overclosure, slip 1, slip 2).",
+             f"PROPS ({len(props)}): " + ", ".join(e.name for e in entries) + " (kt last)",
+             f"STATEV ({len(state)}): " + ", ".join(e.name for e in state),
+             "(start-of-increment values in, end values out)"]
+    text = header(spec, "abaqus-uinter", lines)
+    body = UINTER.replace("@PARAMS@", parameter_block(spec)).replace("@P@", prefix(spec))
+    body = body.replace("@NPAR@", str(len(spec.param_names)))
+    text = refit(text + body + law_subroutines(spec))
+    return Written({f"{spec.name}_uinter.f": text}, props, tuple(entries), tuple(state),
+                   True if not spec.dg_dn_vanishes() else unsymmetric_tangent(spec))
