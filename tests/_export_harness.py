@@ -25,7 +25,8 @@ F_FLAGS = ["-ffixed-form", "-ffixed-line-length-72", "-Wall", "-Werror", "-fchec
 ABA_PARAM = "      IMPLICIT REAL*8(A-H,O-Z)\n      PARAMETER (NPRECD=2)\n"
 VABA_PARAM = "      IMPLICIT REAL*8(A-H,O-Z)\n      PARAMETER (J_FLOAT_KIND=8)\n"
 #: Abaqus's utility routine that ends the analysis.
-XIT = "      SUBROUTINE XIT\n      STOP 1\n      END\n"
+XIT = ("      SUBROUTINE XIT\n      STOP 1\n      END\n"
+       "      SUBROUTINE XPLB_EXIT\n      STOP 1\n      END\n")
 
 
 def compiler(name: str) -> str:
@@ -180,3 +181,38 @@ class Uinter:
                  ctypes.c_size_t(80))
         return (stress, ddsddr, statev, sed.value, sfd.value, spd.value, pnewdt.value,
                 lstate.value, lsdi.value)
+
+
+class Vfric:
+    """Abaqus/Explicit's call of VFRIC for a block of contact points (node-type slave surface,
+    facet master)."""
+
+    def __init__(self, lib):
+        self.fun = lib.vfric_
+        self.fun.restype = None
+
+    def call(self, state, props, dslip, fstick, fnormal, dircos_n, dircos_sl, nfricdir):
+        """``state`` (nstates, n); vectors (ndir, n); returns ``(f_tangential, state)``."""
+        ndir, n = np.shape(dircos_n)
+        nst = max(np.shape(state)[0], 1)
+        state = np.array(state, dtype=float).reshape(-1, n)
+        if state.size == 0:
+            state = np.zeros((1, n))
+        state = np.asfortranarray(state.reshape(nst, 1, n))
+        f = np.zeros((nfricdir, n), order="F")
+        F = np.asfortranarray
+        dslip, dn, dsl = F(_d(dslip)), F(_d(dircos_n)), F(_d(dircos_sl))
+        fstick, fnormal, props = _d(fstick), _d(fnormal), _d(props)
+        zeros = np.zeros((3, 4, n), order="F")
+        juid, flags, rdata = (np.zeros((4, n), dtype=np.int32, order="F"),
+                              np.zeros(3, dtype=np.int32), np.zeros(4))
+        name = ctypes.create_string_buffer(b" " * 80, 80)
+        ip = lambda a: a.ctypes.data_as(ctypes.POINTER(ctypes.c_int))  # noqa: E731
+        self.fun(_p(f), _p(state), _i(n), _i(n), _i(1), _i(1), _i(1), _i(4), _i(nfricdir),
+                 _i(ndir), _i(nst), _i(len(props)), _i(0), _i(1), ip(flags), _p(rdata),
+                 name, name, name, ip(juid), ip(juid), _p(props), _p(dslip), _p(fstick),
+                 _p(np.zeros((ndir, n), order="F")), _p(fnormal), _p(np.ones(n)), _p(dn),
+                 _p(dsl), _p(zeros), _p(zeros), _p(zeros), _p(zeros), _p(zeros), _p(zeros),
+                 _p(zeros), _p(zeros), _p(zeros), _p(zeros), ctypes.c_size_t(80),
+                 ctypes.c_size_t(80), ctypes.c_size_t(80))
+        return f, state.reshape(nst, n)

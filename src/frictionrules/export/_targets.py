@@ -149,3 +149,33 @@ def write_uinter(spec) -> Written:
     text = refit(text + body + law_subroutines(spec))
     return Written({f"{spec.name}_uinter.f": text}, props, tuple(entries), tuple(state),
                    True if not spec.dg_dn_vanishes() else unsymmetric_tangent(spec))
+
+
+def write_vfric(spec) -> Written:
+    from ._f_template import INVERSE, VFRIC
+    from ._fortran import header, law_subroutines, parameter_block, prefix, refit
+    if not spec.conical():
+        raise FrictionRulesError(
+            f"law = {type(spec.law).__name__} violates: target 'abaqus-vfric' needs a law whose "
+            "limit surface is a cone in (T, N) (f homogeneous in the forces): VFRIC scales the "
+            "force of the inverse relation at N = 1 by the normal force")
+    entries = [*_param_entries(spec),
+               Entry("frame_angle", "angle of the material axis 1 from the projection of "
+                     "global axis 1 (2 where the normal is closer to axis 1), about the normal",
+                     "rad")]
+    state = _state_entries(spec)
+    props = (*spec.param_values, 0.0)
+    lines = ["", "Abaqus/Explicit VFRIC: the force of the law's inverse relation (the limit "
+             "force that slides in the slip direction) at N = 1, times the normal force, in "
+             "the slip frame (1 along the incremental slip, 2 = normal x slip), opposing the "
+             "slip, its magnitude at most the stick force.",
+             f"PROPS ({len(props)}): " + ", ".join(e.name for e in entries),
+             f"STATEV ({len(state)}): " + (", ".join(e.name for e in state) or "none")
+             + " (per slave node)"]
+    p = prefix(spec)
+    text = header(spec, "abaqus-vfric", lines)
+    body = VFRIC.replace("@PARAMS@", parameter_block(spec)).replace("@P@", p)
+    body = body.replace("@NPAR@", str(len(spec.param_names)))
+    inverse = INVERSE.replace("@PARAMS@", parameter_block(spec)).replace("@P@", p)
+    text = refit(text + body + law_subroutines(spec) + inverse)
+    return Written({f"{spec.name}_vfric.f": text}, props, tuple(entries), tuple(state), False)
