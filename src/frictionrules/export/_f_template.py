@@ -367,10 +367,12 @@ C
 @PARAMS@
       INTEGER NPAR
       PARAMETER (NPAR = @NPAR@)
+      DOUBLE PRECISION Q0(NQS)
       DOUBLE PRECISION P(NPAR + 1), E(2), Q(NQS), EN(2), QN(NQS)
       DOUBLE PRECISION STR(3), SIG(3), DSIG(3, 3), DV(3), DG(2), ET(2)
       DOUBLE PRECISION AKT, PSTART, PK, FRAC, DLAM, DISS
       INTEGER KIND, IDEPTH, IPOS, IFULL, I, J, NQV, KAP
+      DATA Q0 /@Q0@/
       NQV = NQ
       KAP = KAPPA
       IF (.FALSE.) WRITE (*, *) TAULM(1), SLIP(1), KSTEP, KINC, TIME,
@@ -390,7 +392,7 @@ C     Open at the previous increment: nothing to do.
    10 CONTINUE
       AKT = PROPS(NPAR + 1)
       DO 20 J = 1, NQV
-         Q(J) = STATEV(J)
+         Q(J) = STATEV(J) + Q0(J)
    20 CONTINUE
       E(1) = STATEV(NQ + 1)
       E(2) = STATEV(NQ + 2)
@@ -499,7 +501,7 @@ C     The end of the increment: forces, tangent of the last substep.
   110 CONTINUE
       SED = 0.5D0*AKT*(E(1)**2 + E(2)**2)
       DO 120 J = 1, NQV
-         STATEV(J) = Q(J)
+         STATEV(J) = Q(J) - Q0(J)
   120 CONTINUE
       STATEV(NQ + 1) = E(1)
       STATEV(NQ + 2) = E(2)
@@ -527,12 +529,14 @@ C
 @PARAMS@
       INTEGER NPAR
       PARAMETER (NPAR = @NPAR@)
+      DOUBLE PRECISION Q0(NQS)
       DOUBLE PRECISION P(NPAR + 2), E(3), PL(3), Q(NQS), QN(NQS)
       DOUBLE PRECISION DU(3), ET(3), EN(3), STR(3), SIG(3), DSIG(3, 3)
       DOUBLE PRECISION DV(3), C(3, 3), EK(3), AKT, AKN, FRAC, DLAM
       DOUBLE PRECISION DISST, DISSN
       INTEGER KIND, IDEPTH, IPOS, IFULL, I, J, NQV, KAP, IS(3), IR(3)
       DATA IS /3, 1, 2/, IR /3, 1, 2/
+      DATA Q0 /@Q0@/
       NQV = NQ
       KAP = KAPPA
       IF (.FALSE.) WRITE (*, *) TEMP(1), DTEMP(1), PREDEF(1, 1),
@@ -554,7 +558,7 @@ C
          PL(I) = STATEV(NQ + 3 + I)
    20 CONTINUE
       DO 30 J = 1, NQV
-         Q(J) = STATEV(J)
+         Q(J) = STATEV(J) + Q0(J)
    30 CONTINUE
 C     (dt1, dt2, dn) with dn positive on opening; RDISP(1) is the
 C     overclosure.
@@ -681,7 +685,7 @@ C     d(stress)/d(overclosure, slip 1, slip 2) of the last substep.
       LSDI = 0
       IF (LOPENCLOSE .NE. -1 .AND. LOPENCLOSE .NE. LSTATE) LSDI = 1
       DO 140 J = 1, NQV
-         STATEV(J) = Q(J)
+         STATEV(J) = Q(J) - Q0(J)
   140 CONTINUE
       DO 150 I = 1, 3
          STATEV(NQ + I) = E(I)
@@ -769,15 +773,16 @@ C     f = 0 and grad_T g parallel to (C, S): Newton with line search.
       RETURN
       END
 C ----------------------------------------------------------------------
-C Internal variables after a slip DLAM: QOUT = Q + DLAM H (H in W).
-      SUBROUTINE @P@UQ(Q, W, DLAM, QOUT)
+C Internal variables after a slip DLAM, as changes from the virgin Q0:
+C QOUT = Q + DLAM H - Q0 (H in W).
+      SUBROUTINE @P@UQ(Q, Q0, W, DLAM, QOUT)
       IMPLICIT NONE
 @PARAMS@
-      DOUBLE PRECISION Q(NQS), W(*), DLAM, QOUT(*)
+      DOUBLE PRECISION Q(NQS), Q0(NQS), W(*), DLAM, QOUT(*)
       INTEGER J, NQV
       NQV = NQ
       DO 10 J = 1, NQV
-         QOUT(J) = Q(J) + DLAM*W(OFFH + J)
+         QOUT(J) = Q(J) + DLAM*W(OFFH + J) - Q0(J)
    10 CONTINUE
       RETURN
       END
@@ -836,11 +841,13 @@ C
 @PARAMS@
       INTEGER NPAR
       PARAMETER (NPAR = @NPAR@)
+      DOUBLE PRECISION Q0(NQS)
       DOUBLE PRECISION P(NPAR + 1), Q(NQS), W(NSIZE), T(2), AN(3)
       DOUBLE PRECISION SL(3), REF(3), B1(3), B2(3), AM1(3), AM2(3)
       DOUBLE PRECISION G(3), S2(3), PHI, CS, SN, FN, F1, F2, FMAG
       DOUBLE PRECISION SCALE, DOT, ALEN, GT, DLAM, DS
       INTEGER KB, I, J, I2D, IOK, NQV
+      DATA Q0 /@Q0@/
       NQV = NQ
       IF (.FALSE.) WRITE (*, *) nTemp, jFlags(1), rData(1), surfInt,
      &     surfSlv, surfMst, jConSlvUid(1, 1), jConMstUid(1, 1),
@@ -864,7 +871,7 @@ C
          FN = fNormal(KB)
          IF (.NOT. (FN .GT. 0.0D0)) GO TO 200
          DO 30 J = 1, NQV
-            Q(J) = state(J, 1, KB)
+            Q(J) = state(J, 1, KB) + Q0(J)
    30    CONTINUE
          AN(3) = 0.0D0
          SL(3) = 0.0D0
@@ -949,7 +956,7 @@ C        Internal variables: dq = dlambda h, dlambda = |dslip|/|dg/dT|.
             GT = SQRT(W(OFFDG + 1)**2 + W(OFFDG + 2)**2)
             DLAM = 0.0D0
             IF (GT .GT. 0.0D0) DLAM = DS/GT
-            CALL @P@UQ(Q, W, DLAM, state(1, 1, KB))
+            CALL @P@UQ(Q, Q0, W, DLAM, state(1, 1, KB))
          END IF
   200 CONTINUE
       RETURN

@@ -45,6 +45,19 @@ def parameter_block(spec) -> str:
     return "\n".join(lines)
 
 
+def real(value: float) -> str:
+    """A double-precision literal that reads back as ``value`` (``0.5D0``, ``1.5D-07``)."""
+    text = repr(float(value)).upper()
+    return text.replace("E", "D") if "E" in text else text + "D0"
+
+
+def fill(template: str, spec) -> str:
+    """A template with the law's prefix, layout, number of parameters and virgin state in."""
+    q0 = ", ".join(real(v) for v in spec.initial) or "0.0D0"
+    return (template.replace("@PARAMS@", parameter_block(spec)).replace("@P@", prefix(spec))
+            .replace("@NPAR@", str(len(spec.param_names))).replace("@Q0@", q0))
+
+
 def law_subroutines(spec) -> str:
     """The guarded helpers, the law's three local subroutines and the return mapping."""
     from ..codegen import fortran_helpers, fortran_subroutine, local_program
@@ -53,7 +66,7 @@ def law_subroutines(spec) -> str:
     for level, suffix in (("f", "LF"), ("first", "L1"), ("full", "L2")):
         out.append(fortran_subroutine(local_program(spec.form, level), f"{p}{suffix}", p))
     out.append(fortran_helpers(p))
-    out.append(CORE.replace("@PARAMS@", parameter_block(spec)).replace("@P@", p))
+    out.append(fill(CORE, spec))
     return "C " + "-" * 70 + "\n" + "\n".join(out)
 
 

@@ -91,7 +91,7 @@ def write_c(spec) -> Written:
 
 def write_fric(spec) -> Written:
     from ._f_template import FRIC
-    from ._fortran import header, law_subroutines, parameter_block, prefix, refit
+    from ._fortran import fill, header, law_subroutines, refit
     if not spec.dg_dn_vanishes():
         raise FrictionRulesError(
             f"law = {type(spec.law).__name__}: its sliding rule moves the surfaces normally "
@@ -110,8 +110,7 @@ def write_fric(spec) -> Written:
              f"STATEV ({len(state)}): " + ", ".join(e.name for e in state),
              "(start-of-increment values in, end values out)"]
     text = header(spec, "abaqus-fric", lines)
-    body = FRIC.replace("@PARAMS@", parameter_block(spec)).replace("@P@", prefix(spec))
-    body = body.replace("@NPAR@", str(len(spec.param_names)))
+    body = fill(FRIC, spec)
     text = refit(text + body + law_subroutines(spec))
     return Written({f"{spec.name}_fric.f": text}, props, tuple(entries), tuple(state),
                    unsymmetric_tangent(spec))
@@ -119,7 +118,7 @@ def write_fric(spec) -> Written:
 
 def write_uinter(spec) -> Written:
     from ._f_template import UINTER
-    from ._fortran import header, law_subroutines, parameter_block, prefix, refit
+    from ._fortran import fill, header, law_subroutines, refit
     if spec.kn is None:
         raise FrictionRulesError("kn = None violates: target 'abaqus-uinter' needs the normal "
                                  "penalty stiffness kn > 0")
@@ -144,8 +143,7 @@ def write_uinter(spec) -> Written:
              f"STATEV ({len(state)}): " + ", ".join(e.name for e in state),
              "(start-of-increment values in, end values out)"]
     text = header(spec, "abaqus-uinter", lines)
-    body = UINTER.replace("@PARAMS@", parameter_block(spec)).replace("@P@", prefix(spec))
-    body = body.replace("@NPAR@", str(len(spec.param_names)))
+    body = fill(UINTER, spec)
     text = refit(text + body + law_subroutines(spec))
     return Written({f"{spec.name}_uinter.f": text}, props, tuple(entries), tuple(state),
                    True if not spec.dg_dn_vanishes() else unsymmetric_tangent(spec))
@@ -153,7 +151,7 @@ def write_uinter(spec) -> Written:
 
 def write_vfric(spec) -> Written:
     from ._f_template import INVERSE, VFRIC
-    from ._fortran import header, law_subroutines, parameter_block, prefix, refit
+    from ._fortran import fill, header, law_subroutines, refit
     if not spec.conical():
         raise FrictionRulesError(
             f"law = {type(spec.law).__name__} violates: target 'abaqus-vfric' needs a law whose "
@@ -172,10 +170,6 @@ def write_vfric(spec) -> Written:
              f"PROPS ({len(props)}): " + ", ".join(e.name for e in entries),
              f"STATEV ({len(state)}): " + (", ".join(e.name for e in state) or "none")
              + " (per slave node)"]
-    p = prefix(spec)
     text = header(spec, "abaqus-vfric", lines)
-    body = VFRIC.replace("@PARAMS@", parameter_block(spec)).replace("@P@", p)
-    body = body.replace("@NPAR@", str(len(spec.param_names)))
-    inverse = INVERSE.replace("@PARAMS@", parameter_block(spec)).replace("@P@", p)
-    text = refit(text + body + law_subroutines(spec) + inverse)
+    text = refit(text + fill(VFRIC, spec) + law_subroutines(spec) + fill(INVERSE, spec))
     return Written({f"{spec.name}_vfric.f": text}, props, tuple(entries), tuple(state), False)
