@@ -150,7 +150,7 @@ C LU factorization with partial pivoting in place; .FALSE. if singular.
       RETURN
       END
 C ----------------------------------------------------------------------
-C Solve with the factors of @P@LU; B overwritten by the solution.
+C Solve with the LU factors; B overwritten by the solution.
       SUBROUTINE @P@LS(AJ, IPIV, B)
       IMPLICIT NONE
 @PARAMS@
