@@ -205,8 +205,10 @@ def test_fric_matches_contact_model_at_the_pressure(key, nfdir, frics):
     n = nfdir
     plastic = 0
     for path in range(PATHS):
+        prev = model.initial_state()
         for out, r, lm, p in _fric_path(fric, res, model, path, nfdir, calls=3):
             lm_out, tau, ddg, ddp, dslip, sed, sfd, pnewdt, statev = out
+            before, prev = prev, r.state
             assert pnewdt == 1.0 and np.isfinite(tau).all()
             if lm == 2:
                 assert lm_out == 2
@@ -219,6 +221,9 @@ def test_fric_matches_contact_model_at_the_pressure(key, nfdir, frics):
                 continue
             g, dp = _condensed(r.tangent)
             assert _close(ddg, g[:n, :n], 1e-8, KT) and _close(ddp, dp[:n], 1e-8, 1.0)
+            # the frictional dissipation and the plastic slip of the increment
+            assert _close(sfd, r.dissipation, 1e-10, max(abs(float(r.dissipation)), 1e-6))
+            assert _close(dslip, (r.state.plastic - before.plastic)[:n], 1e-10, 1e-2)
             q = np.ravel(model.law_state(r.state).values)
             virgin = model.effective_law.initial_values()
             q0 = np.array([virgin[k] for k in model.effective_law.state_names])
