@@ -1,9 +1,10 @@
 """Fixed-form Fortran 77 sources of the Abaqus targets: the law's local subroutines, the return
-mapping (``_f_template.py``) and the user subroutine of the target."""
+mapping (``_f_return.py``) and the user subroutine of the target (``_f_standard.py``,
+``_f_explicit.py``)."""
 
 from __future__ import annotations
 
-from ._f_template import CORE
+from ._f_return import CORE
 
 
 def prefix(spec) -> str:

@@ -90,7 +90,7 @@ def write_c(spec) -> Written:
 
 
 def write_fric(spec) -> Written:
-    from ._f_template import FRIC
+    from ._f_standard import FRIC
     from ._fortran import fill, header, law_subroutines, refit
     if not spec.dg_dn_vanishes():
         raise FrictionRulesError(
@@ -117,7 +117,7 @@ def write_fric(spec) -> Written:
 
 
 def write_uinter(spec) -> Written:
-    from ._f_template import UINTER
+    from ._f_standard import UINTER
     from ._fortran import fill, header, law_subroutines, refit
     if spec.kn is None:
         raise FrictionRulesError("kn = None violates: target 'abaqus-uinter' needs the normal "
@@ -150,7 +150,7 @@ def write_uinter(spec) -> Written:
 
 
 def write_vfric(spec) -> Written:
-    from ._f_template import INVERSE, VFRIC
+    from ._f_explicit import INVERSE, VFRIC
     from ._fortran import fill, header, law_subroutines, refit
     if not spec.conical():
         raise FrictionRulesError(
