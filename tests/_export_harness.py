@@ -184,35 +184,35 @@ class Uinter:
 
 
 class Vfric:
-    """Abaqus/Explicit's call of VFRIC for a block of contact points (node-type slave surface,
-    facet master)."""
+    """Abaqus/Explicit's call of VFRIC for ``n`` contact points, one per slave node
+    (``jConSlvid`` = 1 … n), the CHARACTER*8 lengths appended."""
 
     def __init__(self, lib):
         self.fun = lib.vfric_
         self.fun.restype = None
 
     def call(self, state, props, dslip, fstick, fnormal, dircos_n, dircos_sl, nfricdir):
-        """``state`` (nstates, n); vectors (ndir, n); returns ``(f_tangential, state)``."""
+        """``state`` (nstatevar, n); vectors (ndir, n); returns ``(f_tangential, state)``."""
         ndir, n = np.shape(dircos_n)
-        nst = max(np.shape(state)[0], 1)
         state = np.array(state, dtype=float).reshape(-1, n)
         if state.size == 0:
             state = np.zeros((1, n))
-        state = np.asfortranarray(state.reshape(nst, 1, n))
+        state = np.asfortranarray(state)
         f = np.zeros((nfricdir, n), order="F")
         F = np.asfortranarray
         dslip, dn, dsl = F(_d(dslip)), F(_d(dircos_n)), F(_d(dircos_sl))
         fstick, fnormal, props = _d(fstick), _d(fnormal), _d(props)
-        zeros = np.zeros((3, 4, n), order="F")
-        juid, flags, rdata = (np.zeros((4, n), dtype=np.int32, order="F"),
-                              np.zeros(3, dtype=np.int32), np.zeros(4))
-        name = ctypes.create_string_buffer(b" " * 80, 80)
+        ints = np.arange(1, n + 1, dtype=np.int32)
+        zeros = np.zeros((3, 4 * n + 4), order="F")
+        name = ctypes.create_string_buffer(b" " * 8, 8)
         ip = lambda a: a.ctypes.data_as(ctypes.POINTER(ctypes.c_int))  # noqa: E731
-        self.fun(_p(f), _p(state), _i(n), _i(n), _i(1), _i(1), _i(1), _i(4), _i(nfricdir),
-                 _i(ndir), _i(nst), _i(len(props)), _i(0), _i(1), ip(flags), _p(rdata),
-                 name, name, name, ip(juid), ip(juid), _p(props), _p(dslip), _p(fstick),
-                 _p(np.zeros((ndir, n), order="F")), _p(fnormal), _p(np.ones(n)), _p(dn),
-                 _p(dsl), _p(zeros), _p(zeros), _p(zeros), _p(zeros), _p(zeros), _p(zeros),
-                 _p(zeros), _p(zeros), _p(zeros), _p(zeros), ctypes.c_size_t(80),
-                 ctypes.c_size_t(80), ctypes.c_size_t(80))
-        return f, state.reshape(nst, n)
+        r = lambda v: ctypes.byref(ctypes.c_double(v))  # noqa: E731
+        self.fun(_p(f), _p(state), _i(1), _i(1), _i(n), _i(4), _i(n), _i(4), _i(nfricdir),
+                 _i(ndir), _i(state.shape[0]), _i(len(props)), _i(0), _i(1), _i(1),
+                 ip(ints), ip(ints), ip(ints), ip(np.ones(4 * n, dtype=np.int32)), r(1e-6),
+                 r(1e-3), r(1e-6), name, name, name, _i(1), _p(dslip), _p(fstick),
+                 _p(np.zeros((ndir, n), order="F")), _p(fnormal), r(0.0), _p(zeros), _p(zeros),
+                 _p(zeros), _p(dsl), _p(dn), _p(props), _p(np.ones(n)), _p(np.zeros(n)),
+                 _p(zeros), _p(zeros), _p(zeros), ctypes.c_size_t(8), ctypes.c_size_t(8),
+                 ctypes.c_size_t(8))
+        return f, state

@@ -1,4 +1,4 @@
-"""Abaqus/Explicit user subroutine VFRIC in fixed-form Fortran 77, and the inverse relation
+"""Abaqus/Explicit user subroutine VFRIC (contact pairs) in fixed-form Fortran 77, and the inverse relation
 (1.8) it needs: the limit force whose slip direction is given, solved by Newton's method on
 the law's printed local functions.
 """
@@ -101,50 +101,32 @@ VFRIC = """\
 C Write only -
      *     fTangential,
 C Read/Write -
-     *     state,
+     *     statev,
 C Read only -
-     *     nBlock, nBlockAnal, nBlockEdge,
-     *     nNodState, nNodSlv, nNodMst,
-     *     nFricDir, nDir,
-     *     nStates, nProps, nTemp, nFields,
-     *     jFlags, rData,
-     *     surfInt, surfSlv, surfMst,
-     *     jConSlvUid, jConMstUid, props,
-     *     dSlipFric, fStickForce, fTangPrev, fNormal,
-     *     areaCont, dircosN, dircosSl,
-     *     shapeSlv, shapeMst,
-     *     coordSlv, coordMst,
-     *     velSlv, velMst,
-     *     tempSlv, tempMst,
-     *     fieldSlv, fieldMst )
+     *     kStep, kInc, nContact, nFacNod, nSlvNod, nMstNod,
+     *     nFricDir, nDir, nStateVar, nProps, nTemp, nPred, numDefTfv,
+     *     jSlvUid, jMstUid, jConSlvid, jConMstid, timStep, timGlb,
+     *     dTimPrev, surfInt, surfSlv, surfMast, lContType,
+     *     dSlipFric, fStickForce, fTangPrev, fNormal, frictionWork,
+     *     shape, coordSlv, coordMst, dircosSl, dircosN, props,
+     *     areaSlv, tempSlv, preDefSlv, tempMst, preDefMst)
 C
       INCLUDE 'vaba_param.inc'
 C
-      DIMENSION fTangential(nFricDir, nBlock),
-     *     state(nStates, nNodState, nBlock),
-     *     jConSlvUid(nNodSlv, nBlock),
-     *     jConMstUid(nNodMst, nBlockAnal),
-     *     props(nProps),
-     *     dSlipFric(nDir, nBlock),
-     *     fStickForce(nBlock),
-     *     fTangPrev(nDir, nBlock),
-     *     fNormal(nBlock),
-     *     areaCont(nBlock),
-     *     dircosN(nDir, nBlock),
-     *     dircosSl(nDir, nBlock),
-     *     shapeSlv(nNodSlv, nBlockEdge),
-     *     shapeMst(nNodMst, nBlockAnal),
-     *     coordSlv(nDir, nNodSlv, nBlockAnal),
-     *     coordMst(nDir, nNodMst, nBlockAnal),
-     *     velSlv(nDir, nNodSlv, nBlockAnal),
-     *     velMst(nDir, nNodMst, nBlockAnal),
-     *     tempSlv(nBlockAnal),
-     *     tempMst(nBlockAnal),
-     *     fieldSlv(nFields, nBlockAnal),
-     *     fieldMst(nFields, nBlockAnal)
-      PARAMETER (nFlags = 3, nData = 4)
-      DIMENSION jFlags(nFlags), rData(nData)
-      CHARACTER*80 surfInt, surfSlv, surfMst
+      DIMENSION props(nProps), statev(nStateVar, nSlvNod),
+     1     dSlipFric(nDir, nContact),
+     2     fTangential(nFricDir, nContact),
+     3     fTangPrev(nDir, nContact),
+     4     fStickForce(nContact), areaSlv(nSlvNod),
+     5     fNormal(nContact), shape(nFacNod, nContact),
+     6     coordSlv(nDir, nSlvNod), coordMst(nDir, nMstNod),
+     7     dircosSl(nDir, nContact), dircosN(nDir, nContact),
+     8     jSlvUid(nSlvNod), jMstUid(nMstNod),
+     9     jConSlvid(nContact), jConMstid(nFacNod, nContact),
+     1     tempSlv(nContact), tempMst(numDefTfv),
+     2     preDefSlv(nContact, nPred),
+     3     preDefMst(numDefTfv, nPred)
+      CHARACTER*8 surfInt, surfSlv, surfMast
 C
 @PARAMS@
       INTEGER NPAR
@@ -154,16 +136,16 @@ C
       DOUBLE PRECISION SL(3), REF(3), B1(3), B2(3), AM1(3), AM2(3)
       DOUBLE PRECISION G(3), S2(3), PHI, CS, SN, FN, F1, F2, FMAG
       DOUBLE PRECISION SCALE, DOT, ALEN, GT, DLAM, DS
-      INTEGER KB, I, J, I2D, IOK, NQV
+      INTEGER KB, I, J, I2D, IOK, NQV, NODE
       DATA Q0 /@Q0@/
       NQV = NQ
-      IF (.FALSE.) WRITE (*, *) nTemp, jFlags(1), rData(1), surfInt,
-     &     surfSlv, surfMst, jConSlvUid(1, 1), jConMstUid(1, 1),
-     &     fTangPrev(1, 1), areaCont(1), shapeSlv(1, 1),
-     &     shapeMst(1, 1), coordSlv(1, 1, 1), coordMst(1, 1, 1),
-     &     velSlv(1, 1, 1), velMst(1, 1, 1), tempSlv(1), tempMst(1),
-     &     fieldSlv(1, 1), fieldMst(1, 1)
-      IF (nProps .LT. NPAR + 1 .OR. nStates .LT. NQ) THEN
+      IF (.FALSE.) WRITE (*, *) kStep, kInc, nTemp, jSlvUid(1),
+     &     jMstUid(1), jConMstid(1, 1), timStep, timGlb, dTimPrev,
+     &     surfInt, surfSlv, surfMast, lContType, fTangPrev(1, 1),
+     &     frictionWork, shape(1, 1), coordSlv(1, 1), coordMst(1, 1),
+     &     areaSlv(1), tempSlv(1), tempMst(1), preDefSlv(1, 1),
+     &     preDefMst(1, 1)
+      IF (nProps .LT. NPAR + 1 .OR. nStateVar .LT. NQ) THEN
          WRITE (*, *) 'VFRIC (frictionrules): needs PROPERTIES = ',
      &        NPAR + 1, ' and DEPVAR = ', NQ
          CALL XPLB_EXIT
@@ -172,14 +154,15 @@ C
          P(I) = props(I)
    10 CONTINUE
       PHI = props(NPAR + 1)
-      DO 200 KB = 1, nBlock
+      DO 200 KB = 1, nContact
+         NODE = jConSlvid(KB)
          DO 20 I = 1, nFricDir
             fTangential(I, KB) = 0.0D0
    20    CONTINUE
          FN = fNormal(KB)
          IF (.NOT. (FN .GT. 0.0D0)) GO TO 200
          DO 30 J = 1, NQV
-            Q(J) = state(J, 1, KB) + Q0(J)
+            Q(J) = statev(J, NODE) + Q0(J)
    30    CONTINUE
          AN(3) = 0.0D0
          SL(3) = 0.0D0
@@ -264,7 +247,7 @@ C        Internal variables: dq = dlambda h, dlambda = |dslip|/|dg/dT|.
             GT = SQRT(W(OFFDG + 1)**2 + W(OFFDG + 2)**2)
             DLAM = 0.0D0
             IF (GT .GT. 0.0D0) DLAM = DS/GT
-            CALL @P@UQ(Q, Q0, W, DLAM, state(1, 1, KB))
+            CALL @P@UQ(Q, Q0, W, DLAM, statev(1, NODE))
          END IF
   200 CONTINUE
       RETURN
