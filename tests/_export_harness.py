@@ -170,7 +170,9 @@ class Uinter:
         lstate, lsdi = ctypes.c_int(0), ctypes.c_int(0)
         name = ctypes.create_string_buffer(b" " * 80, 80)
         d = ctypes.byref
-        self.fun(_p(stress), _p(ddsddr), _p(flux), _p(ddfddt), _p(ddsddt), _p(ddfddr),
+        amki, amski = np.zeros((n, n), order="F"), np.zeros((n, n), order="F")
+        self.fun(_p(stress), _p(ddsddr), _p(amki), _p(amski), _p(flux), _p(ddfddt),
+                 _p(ddsddt), _p(ddfddr),
                  _p(statev), d(sed), d(sfd), d(spd), d(svd), d(scd), d(pnewdt), _p(rdisp),
                  _p(drdisp), _p(temp), _p(dtemp), _p(predef), _p(dpred), _p(time),
                  d(ctypes.c_double(1.0)), d(ctypes.c_double(0.0)), name, name, name,

@@ -264,7 +264,7 @@ static int apex_region(const double *sig_tr, const double *q, const double *p,
 static int @NAME@_return(const double *sig_tr, const double *qn, const double *p,
                          const double *dv, double *sig, double *q1, double *dlam, double *dsig)
 {
-    double x[M], w[SIZE], J[M * M], col[M];
+    double x[M], w[SIZE] = {0.0}, J[M * M], col[M];
     int piv[M], a, c, j;
     const double ntr = sqrt(sig_tr[0] * sig_tr[0] + sig_tr[1] * sig_tr[1]
                             + sig_tr[2] * sig_tr[2]);

@@ -17,6 +17,10 @@ C force along (C, S) only (2-D). IOK = 0 where Newton fails.
       INTEGER I2D, IOK, IT, IH, K
       LOGICAL ACCEPT
       IOK = 0
+      DO 5 K = 1, NSIZE
+         W(K) = 0.0D0
+         WK(K) = 0.0D0
+    5 CONTINUE
       R = 1.0D0
       DO 10 IT = 1, 200
          CALL @P@EV(R*C, R*S, 1.0D0, Q, P, W, 1)
@@ -154,6 +158,9 @@ C
          P(I) = props(I)
    10 CONTINUE
       PHI = props(NPAR + 1)
+      DO 15 I = 1, NSIZE
+         W(I) = 0.0D0
+   15 CONTINUE
       DO 200 KB = 1, nContact
          NODE = jConSlvid(KB)
          DO 20 I = 1, nFricDir
