@@ -133,3 +133,15 @@ def test_cli_bad_specs_exit_2_with_one_line_and_write_nothing(argv, text, tmp_pa
     err = capsys.readouterr().err.strip().splitlines()
     assert rc == 2 and len(err) == 1 and text in err[0], err
     assert not (tmp_path / "out").exists()
+
+
+def test_compile_tests_skip_without_a_compiler_and_fail_in_ci(monkeypatch):
+    """No compiler: the compiled tests skip with the reason; in CI (CI=true) they fail."""
+    import _export_harness as harness
+    monkeypatch.setattr(harness.shutil, "which", lambda name: None)
+    monkeypatch.delenv("CI", raising=False)
+    with pytest.raises(pytest.skip.Exception, match="gfortran"):
+        harness.compiler("fortran")
+    monkeypatch.setenv("CI", "true")
+    with pytest.raises(pytest.fail.Exception, match="CI=true"):
+        harness.compiler("c")

@@ -100,11 +100,13 @@ def readme_name(target: str, spec) -> str:
 
 
 def _table(entries, values=None) -> list[str]:
+    if values is None:
+        rows = ["| # | name | meaning | unit |", "|---|---|---|---|"]
+        return rows + [f"| {k + 1} | `{e.name}` | {e.meaning} | {e.unit} |"
+                       for k, e in enumerate(entries)]
     rows = ["| # | name | value | meaning | unit |", "|---|---|---|---|---|"]
-    for k, e in enumerate(entries):
-        v = "" if values is None else repr(float(values[k]))
-        rows.append(f"| {k + 1} | `{e.name}` | {v} | {e.meaning} | {e.unit} |")
-    return rows
+    return rows + [f"| {k + 1} | `{e.name}` | {float(values[k])!r} | {e.meaning} | {e.unit} |"
+                   for k, e in enumerate(entries)]
 
 
 def readme(target: str, spec, written, files) -> str:
