@@ -34,6 +34,14 @@ from .state import ELASTIC, OPEN, PLASTIC, ContactState, UpdateResult
 __all__ = ["ContactModel"]
 
 
+@functools.lru_cache(maxsize=1)
+def _has_numba() -> bool:
+    """Whether Numba is installed (the generated compiled return needs it; without it the
+    NumPy return mapping runs)."""
+    import importlib.util
+    return importlib.util.find_spec("numba") is not None
+
+
 @dataclass(frozen=True)
 class ContactModel:
     r"""Elastic-plastic contact (§4): elastic layer (4.2), sliding rule (4.3) of any law.
@@ -52,9 +60,12 @@ class ContactModel:
     Notes
     -----
     :meth:`update` integrates one step implicitly (backward Euler, closest-point projection
-    by Newton, substepping when Newton fails). A law that offers a hand-written compiled return
-    (capability ``"closed_form_return"``: Coulomb, elliptic orthotropic, the default cap) runs
-    it; every other law runs the return mapping derived from its symbolic form.
+    by Newton, substepping when Newton fails). Every law runs a compiled return mapping
+    generated from its symbolic form (Numba; built once per law structure and cached on disk,
+    see :mod:`frictionrules.contact._generated`), which also gives the consistent tangent; a
+    law that offers a hand-written compiled return (capability ``"closed_form_return"``:
+    Coulomb, elliptic orthotropic, the default cap) runs that instead when no tangent is asked
+    for. Without Numba, and with ``compiled=False``, the return mapping runs in NumPy.
     """
 
     law: FrictionLaw
@@ -205,8 +216,9 @@ class ContactModel:
         tangent : bool
             Also return the consistent tangent ``d(T1, T2, N)/d(δt1, δt2, δn)``.
         compiled : bool
-            Use the law's compiled return where it has one (default); False forces the
-            return mapping derived in NumPy.
+            Use a compiled return (default): the law's hand-written one where it has one and
+            no tangent is asked for, else the one generated from its symbolic form. False
+            forces the return mapping derived in NumPy.
 
         Returns
         -------
@@ -218,20 +230,26 @@ class ContactModel:
         q = self._q(state)
         kappa_index = self._names.index("kappa") if "kappa" in self._names else None
         name = self.kernel() if compiled else None
-        if name is not None:
+        tan = None
+        if name is not None and not tangent:
             from ._kernels import run_kernel
             step, failed = run_kernel(self.effective_law.closed_form_return(), self.kt, self.kn, e, p, q, du)
-            idx = np.flatnonzero(failed)
-            if idx.size:
-                # The compiled iteration failed there: the derived return substeps.
-                g = generic_step(self._surface, e[idx], p[idx], q[idx], du[idx], self._Dv, kappa_index)
-                for field in ("e", "p", "q", "force", "dlam", "status", "dissipation", "slip"):
-                    getattr(step, field)[idx] = getattr(g, field)
+        elif compiled and _has_numba():
+            from ._generated import generated_step
+            step, failed, tan = generated_step(self.effective_law, self.kt, self.kn, e, p, q, du,
+                                               kappa_index, tangent)
         else:
-            step = generic_step(self._surface, e, p, q, du, self._Dv, kappa_index)
-        tan = None
+            step, failed = generic_step(self._surface, e, p, q, du, self._Dv, kappa_index), None
+        if failed is not None and failed.any():
+            # The compiled iteration failed there: the derived return substeps.
+            idx = np.flatnonzero(failed)
+            g = generic_step(self._surface, e[idx], p[idx], q[idx], du[idx], self._Dv, kappa_index)
+            for field in ("e", "p", "q", "force", "dlam", "status", "dissipation", "slip"):
+                getattr(step, field)[idx] = getattr(g, field)
+            if tan is not None:
+                tan[idx] = self._tangent(g)
         if tangent:
-            tan = self._tangent(step).reshape(state.shape + (3, 3))
+            tan = (self._tangent(step) if tan is None else tan).reshape(state.shape + (3, 3))
         shape = state.shape
         return UpdateResult(self._new_state(state, step), step.force.reshape(shape + (3,)),
                             step.dlam.reshape(shape), step.status.reshape(shape),

@@ -3,7 +3,7 @@ of §1–2 and §4."""
 
 from ._records import ClosedFormReturn, Cone, InverseRelation
 from ._state import LawState
-from ._symbolic import LocalDerivatives, SymbolicLaw
+from ._symbolic import LocalDerivatives, SymbolicLaw, form_of
 from .base import CAPABILITIES, FrictionLaw, RuleComparison, compare_rules, require
 from .cap import AreaGrowth, AreaHardening, EllipsoidCap
 from .coulomb import Coulomb
@@ -17,6 +17,7 @@ __all__ = [
     "LawState",
     "SymbolicLaw",
     "LocalDerivatives",
+    "form_of",
     "Cone",
     "InverseRelation",
     "ClosedFormReturn",

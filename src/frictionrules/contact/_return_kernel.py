@@ -1,9 +1,12 @@
-"""Template of the compiled return mapping: the Numba kernel every generated law module shares.
+"""The compiled return mapping shared by every law: one Numba kernel, the law's functions as
+arguments.
 
-Not imported: :mod:`frictionrules.contact._generated` writes a module per law structure that
-defines the law's local functions (``_local_f``, ``_local_first``, ``_local_full``, printed
-from its symbolic form by :mod:`frictionrules.codegen`) and the layout constants, followed by
-this text, and imports that module (so Numba's ``cache=True`` can keep it on disk).
+A law enters as three compiled C-callable functions printed from its symbolic form by
+:mod:`frictionrules.contact._generated` (``lf``: f only; ``l1``: f, ∇f, ∂f/∂q, ∇g, h; ``l2``:
+every quantity of :func:`frictionrules.codegen.local_layout`), each
+``(T1, T2, N, *q, *p, *w) -> int`` writing into the flat layout ``w``
+(:data:`LOCAL_SIGNATURE`), passed by address, so this kernel is compiled once, for every law,
+and cached by Numba; a new law compiles only its three small functions.
 
 The algorithm is the one of :func:`frictionrules.contact.integrate.return_map` and
 :func:`frictionrules.contact._step.generic_step`, contact by contact: elastic trial (4.2),
@@ -12,57 +15,85 @@ residual with a backtracking line search, returns that end at the apex of a cone
 consistent tangent (the σ-block of the inverse Jacobian times E). Contacts whose iteration
 fails are flagged in a boolean array; the caller substeps them with the NumPy return mapping.
 
-Arrays: ``inputs = (e, p, q, du)`` (n, 3), (n, 3), (n, NQ), (n, 3); ``consts = (kt, kn,
-kappa column or -1, *params)``; ``outputs = (e1, p1, q1, res, status, failed, tangent)`` with
-``res`` (n, 6) = (T1, T2, N, Δλ, dissipation, slip), ``status`` int8 (0 elastic, 1 plastic,
-2 open), ``failed`` bool, ``tangent`` (n, 3, 3) (written when ``want_tangent``).
+Arrays: ``inputs = (e, p, q, du)`` (n, 3), (n, 3), (n, nq), (n, 3); ``consts = (kt, kn,
+kappa column or -1, clip, *params)`` (``clip``: 1 for a law evaluated at ``max(N, 0)``);
+``outputs = (e1, p1, q1, res, status, failed, tangent)`` with ``res`` (n, 6) = (T1, T2, N, Δλ,
+dissipation, slip), ``status`` int8 (0 elastic, 1 plastic, 2 open), ``failed`` bool,
+``tangent`` (n, 3, 3) (written when ``want_tangent``).
 """
-# ruff: noqa: F821  (the layout constants and the _local_* functions come from the header)
 
 import math
 
 import numpy as np
-from numba import get_num_threads, njit, prange
+from llvmlite import ir
+from numba import njit, types
+from numba.extending import intrinsic
 
-_M = 4 + NQ
 _TOL = 1e-13
 _MAX_ITER = 60
 _MAX_HALVINGS = 12
 _ELASTIC, _PLASTIC, _OPEN = 0, 1, 2
 
+_ARR = types.float64[::1]
+_PTR = types.CPointer(types.float64)
+#: C signature of a law's local function ``(T1, T2, N, *q, *p, *w) -> 0`` (a Numba ``cfunc``).
+LOCAL_SIGNATURE = types.int64(types.float64, types.float64, types.float64, _PTR, _PTR, _PTR)
 
-@njit(error_model="numpy")
-def _eval(s0, s1, s2, q, p, w, level):
-    """The law's quantities at (T1, T2, N, q) into ``w``, made finite at kinks: a derivative
-    that is not finite (0/0 at the apex of a cone) is the minimal-norm subgradient 0; a limit
-    condition that is not finite there is its largest value on a small circle around T."""
-    n = max(s2, 0.0) if CLIP else s2
+
+@intrinsic
+def _call_local(typingctx, address, x0, x1, x2, q, p, w):
+    """Call the local function at ``address`` (:data:`LOCAL_SIGNATURE`) with the data of the
+    arrays ``q, p, w``: a plain C call, as cheap as a call between compiled functions."""
+    sig = types.int64(address, x0, x1, x2, q, p, w)
+
+    def codegen(context, builder, signature, args):
+        dbl = ir.DoubleType()
+        fnty = ir.FunctionType(ir.IntType(64), [dbl, dbl, dbl] + [dbl.as_pointer()] * 3)
+        data = [builder.bitcast(context.make_array(t)(context, builder, v).data, dbl.as_pointer())
+                for t, v in zip(signature.args[4:], args[4:])]
+        fn = builder.inttoptr(args[0], fnty.as_pointer())
+        return builder.call(fn, list(args[1:4]) + data)
+
+    return sig, codegen
+
+
+@njit(inline="always")
+def _layout(nq):
+    """Offsets of df, dfq, dg, hgg, hgq, h, dhs, dhq in the flat layout, and its size."""
+    return (1, 4, 4 + nq, 7 + nq, 16 + nq, 16 + 4 * nq, 16 + 5 * nq, 16 + 8 * nq,
+            16 + 8 * nq + nq * nq)
+
+
+@njit(error_model="numpy", _nrt=False)
+def _eval(lf, l1, l2, clip, s0, s1, s2, q, p, w, level):
+    """The law's quantities at (T1, T2, N, q) into ``w``, finite at kinks: a derivative that
+    is not finite (0/0 at the apex of a cone) is written as 0, the minimal-norm subgradient, by
+    the generated function itself; a limit condition that is not finite there is its largest
+    value on a small circle around T."""
+    n = max(s2, 0.0) if clip else s2
     if level == 0:
-        _local_f(s0, s1, n, q, p, w)
-        last = 1
+        _call_local(lf, s0, s1, n, q, p, w)
     elif level == 1:
-        _local_first(s0, s1, n, q, p, w)
-        last = SIZE
+        _call_local(l1, s0, s1, n, q, p, w)
     else:
-        _local_full(s0, s1, n, q, p, w)
-        last = SIZE
-    for k in range(1, last):
-        if not math.isfinite(w[k]):
-            w[k] = 0.0
+        _call_local(l2, s0, s1, n, q, p, w)
     if not math.isfinite(w[0]):
         r = 1e-9 * (math.sqrt(s0 * s0 + s1 * s1) + abs(n)) + 1e-300
         best = -np.inf
         for j in range(8):
             a = 0.25 * math.pi * j
-            _local_f(s0 + r * math.cos(a), s1 + r * math.sin(a), n, q, p, w)
+            _call_local(lf, s0 + r * math.cos(a), s1 + r * math.sin(a), n, q, p, w)
             if w[0] > best:
                 best = w[0]
         w[0] = best
 
 
-@njit(error_model="numpy")
+@njit(error_model="numpy", _nrt=False)
 def _residual(w, x, sig_tr, qn, dv, rows, out):
     """Scaled backward-Euler residual at ``x = (σ, q, Δλ)`` into ``out``; returns its norm."""
+    NQ = qn.shape[0]
+    _M = 4 + NQ
+    OFF_DF, OFF_DFQ, OFF_DG, OFF_HGG, OFF_HGQ, OFF_H, OFF_DHS, OFF_DHQ, SIZE = _layout(NQ)
     lam = x[_M - 1]
     acc = 0.0
     for a in range(3):
@@ -79,9 +110,11 @@ def _residual(w, x, sig_tr, qn, dv, rows, out):
     return math.sqrt(acc)
 
 
-@njit(error_model="numpy")
+@njit(error_model="numpy", _nrt=False)
 def _jacobian(w, lam, dv, J):
     """Newton Jacobian of the residual in ``(σ, q, Δλ)`` (unscaled), into ``J``."""
+    NQ = J.shape[0] - 4
+    OFF_DF, OFF_DFQ, OFF_DG, OFF_HGG, OFF_HGQ, OFF_H, OFF_DHS, OFF_DHQ, SIZE = _layout(NQ)
     m = 3 + NQ
     for a in range(3):
         for b in range(3):
@@ -102,9 +135,10 @@ def _jacobian(w, lam, dv, J):
     J[m, m] = 0.0
 
 
-@njit(error_model="numpy")
+@njit(error_model="numpy", _nrt=False)
 def _factor(J, piv):
     """LU factorization with partial pivoting in place; False when singular."""
+    _M = J.shape[0]
     for c in range(_M):
         best, k = abs(J[c, c]), c
         for r in range(c + 1, _M):
@@ -126,9 +160,10 @@ def _factor(J, piv):
     return True
 
 
-@njit(error_model="numpy")
+@njit(error_model="numpy", _nrt=False)
 def _lu_solve(J, piv, b):
     """Solve with the factors of :func:`_factor`, ``b`` overwritten by the solution."""
+    _M = J.shape[0]
     for c in range(_M):
         k = piv[c]
         if k != c:
@@ -145,18 +180,48 @@ def _lu_solve(J, piv, b):
         b[r] = acc / J[r, r]
 
 
-@njit(error_model="numpy")
-def _return(sig_tr, qn, p, dv, V, w, wk, J, piv):
+@njit(error_model="numpy", _nrt=False)
+def _first_step(w, R, rows, dv, step):
+    """Newton step from ``Δλ = 0`` (unscaled, into ``step``): with the unscaled residual
+    ``r = (r_σ, r_q, f)``, ``Δλ = (f - ∇f·r_σ - ∂f/∂q·r_q) / (∇f·D∇g - ∂f/∂q·h)``,
+    ``Δσ = -r_σ - Δλ D∇g``, ``Δq = -r_q + Δλ h``. False where the denominator vanishes."""
+    _M = R.shape[0]
+    NQ = _M - 4
+    OFF_DF, OFF_DFQ, OFF_DG, OFF_HGG, OFF_HGQ, OFF_H, OFF_DHS, OFF_DHQ, SIZE = _layout(NQ)
+    num = R[_M - 1] / rows[_M - 1]
+    den = 0.0
+    for a in range(3):
+        num -= w[OFF_DF + a] * R[a] / rows[a]
+        den += w[OFF_DF + a] * dv[a] * w[OFF_DG + a]
+    for j in range(NQ):
+        num -= w[OFF_DFQ + j] * R[3 + j] / rows[3 + j]
+        den -= w[OFF_DFQ + j] * w[OFF_H + j]
+    if den == 0.0 or not math.isfinite(den):
+        return False
+    lam = num / den
+    for a in range(3):
+        step[a] = -R[a] / rows[a] - lam * dv[a] * w[OFF_DG + a]
+    for j in range(NQ):
+        step[3 + j] = -R[3 + j] / rows[3 + j] + lam * w[OFF_H + j]
+    step[_M - 1] = lam
+    return True
+
+
+@njit(error_model="numpy", _nrt=False)
+def _return(lf, l1, l2, clip, sig_tr, qn, p, dv, V, w, wk, J, piv):
     """Newton return of ``sig_tr`` onto f = 0 from ``x = (σ_tr, q_n, 0)``; True if converged.
 
     ``V`` holds the vectors of the iteration (rows: iterate, trial iterate, row and column
     scales, residual, trial residual, step). Leaves the last iterate in ``V[0]`` and the law's
     quantities there in ``w``.
     """
+    NQ = qn.shape[0]
+    _M = 4 + NQ
+    OFF_DF, OFF_DFQ, OFF_DG, OFF_HGG, OFF_HGQ, OFF_H, OFF_DHS, OFF_DHQ, SIZE = _layout(NQ)
     x, xk, rows, cols, R, Rk, step = V[0], V[1], V[2], V[3], V[4], V[5], V[6]
     F = max(math.sqrt(sig_tr[0] ** 2 + sig_tr[1] ** 2 + sig_tr[2] ** 2), 1e-300)
-    _eval(sig_tr[0], sig_tr[1], sig_tr[2], qn, p, w, 2)
-    full = True
+    _eval(lf, l1, l2, clip, sig_tr[0], sig_tr[1], sig_tr[2], qn, p, w, 1)
+    full = False
     dfn = math.sqrt(w[OFF_DF] ** 2 + w[OFF_DF + 1] ** 2 + w[OFF_DF + 2] ** 2)
     fs = max(dfn * F, 1e-300)
     gs = max(math.sqrt((dv[0] * w[OFF_DG]) ** 2 + (dv[1] * w[OFF_DG + 1]) ** 2
@@ -175,28 +240,34 @@ def _return(sig_tr, qn, p, dv, V, w, wk, J, piv):
     cols[_M - 1] = lam_s
     x[_M - 1] = 0.0
     merit = _residual(w, x, sig_tr, qn, dv, rows, R)
-    for _ in range(_MAX_ITER):
+    for it in range(_MAX_ITER):
         if merit <= _TOL:
             break
-        if not full:
-            _eval(x[0], x[1], x[2], x[3:3 + NQ], p, w, 2)
-        _jacobian(w, x[_M - 1], dv, J)
-        for a in range(_M):
-            for b in range(_M):
-                J[a, b] *= rows[a] * cols[b]
-        if not _factor(J, piv):
-            return False
-        for a in range(_M):
-            step[a] = -R[a]
-        _lu_solve(J, piv, step)
-        for a in range(_M):
-            step[a] *= cols[a]
+        if it == 0:
+            # At Δλ = 0 the Jacobian is [[I, 0, D∇g], [0, I, -h], [∇f, ∂f/∂q, 0]]: its
+            # Newton step in closed form (the scaled system has the same solution).
+            if not _first_step(w, R, rows, dv, step):
+                return False
+        else:
+            if not full:
+                _eval(lf, l1, l2, clip, x[0], x[1], x[2], x[3:3 + NQ], p, w, 2)
+            _jacobian(w, x[_M - 1], dv, J)
+            for a in range(_M):
+                for b in range(_M):
+                    J[a, b] *= rows[a] * cols[b]
+            if not _factor(J, piv):
+                return False
+            for a in range(_M):
+                step[a] = -R[a]
+            _lu_solve(J, piv, step)
+            for a in range(_M):
+                step[a] *= cols[a]
         alpha = 1.0
         accepted = False
         for _h in range(_MAX_HALVINGS):
             for a in range(_M):
                 xk[a] = x[a] + alpha * step[a]
-            _eval(xk[0], xk[1], xk[2], xk[3:3 + NQ], p, wk, 1)
+            _eval(lf, l1, l2, clip, xk[0], xk[1], xk[2], xk[3:3 + NQ], p, wk, 1)
             mk = _residual(wk, xk, sig_tr, qn, dv, rows, Rk)
             if math.isfinite(mk) and mk <= (1.0 - 1e-4 * alpha) * merit:
                 for a in range(_M):
@@ -214,23 +285,28 @@ def _return(sig_tr, qn, p, dv, V, w, wk, J, piv):
     return merit <= _TOL and x[_M - 1] >= 0.0
 
 
-@njit(error_model="numpy")
-def _apex_region(sig_tr, q, p, dv, w):
+@njit(error_model="numpy", _nrt=False)
+def _apex_region(lf, l1, l2, clip, sig_tr, q, p, dv, w):
     """Trial forces whose return ends at the apex σ = 0 of a cone (see
     :meth:`frictionrules.contact.integrate.Surface.apex_region`)."""
-    _eval(0.0, 0.0, 0.0, q, p, w, 0)
+    OFF_DG = 4 + q.shape[0]
+    _eval(lf, l1, l2, clip, 0.0, 0.0, 0.0, q, p, w, 0)
     if w[0] != 0.0:
         return False
-    _eval(sig_tr[0], sig_tr[1], 0.0, q, p, w, 1)
+    _eval(lf, l1, l2, clip, sig_tr[0], sig_tr[1], 0.0, q, p, w, 1)
     gt = math.sqrt(w[OFF_DG] ** 2 + w[OFF_DG + 1] ** 2)
     tt = math.sqrt(sig_tr[0] ** 2 + sig_tr[1] ** 2)
     return w[OFF_DG + 2] > 0.0 and sig_tr[2] * dv[0] * gt <= tt * dv[2] * w[OFF_DG + 2]
 
 
-@njit(inline="always", error_model="numpy")
-def _one(i, e, pl, q, du, kt, kn, kappa_col, e1, p1, q1, res, status, failed, tangent,
-         want_tangent, sig_tr, dv, p, qn, V, w, wk, J, piv):
-    x, step = V[0], V[6]
+@njit(inline="always", error_model="numpy", _nrt=False)
+def _one(lf, l1, l2, clip, i, e, pl, q, du, kappa_col, e1, p1, q1, res, status, failed,
+         tangent, want_tangent, sig_tr, dv, p, qn, V, x, step, w, wk, J, piv):
+    """One contact: trial, limit check, return, outputs (see the module's docstring);
+    ``dv = (kt, kt, kn)``."""
+    NQ = qn.shape[0]
+    _M = 4 + NQ
+    kt, kn = dv[0], dv[2]
     et0 = e[i, 0] + du[i, 0]
     et1 = e[i, 1] + du[i, 1]
     et2 = e[i, 2] + du[i, 2]
@@ -246,11 +322,11 @@ def _one(i, e, pl, q, du, kt, kn, kappa_col, e1, p1, q1, res, status, failed, ta
     dlam = 0.0
     s0 = s1 = s2 = 0.0
     if sig_tr[2] > 0.0:
-        _eval(sig_tr[0], sig_tr[1], sig_tr[2], qn, p, w, 0)
+        _eval(lf, l1, l2, clip, sig_tr[0], sig_tr[1], sig_tr[2], qn, p, w, 0)
         if w[0] <= 0.0:
             kind = _ELASTIC
             s0, s1, s2 = sig_tr[0], sig_tr[1], sig_tr[2]
-        elif _return(sig_tr, qn, p, dv, V, w, wk, J, piv):
+        elif _return(lf, l1, l2, clip, sig_tr, qn, p, dv, V, w, wk, J, piv):
             s0, s1, s2 = x[0], x[1], x[2]
             dlam = x[_M - 1]
             ntr = math.sqrt(sig_tr[0] ** 2 + sig_tr[1] ** 2 + sig_tr[2] ** 2)
@@ -262,7 +338,7 @@ def _one(i, e, pl, q, du, kt, kn, kappa_col, e1, p1, q1, res, status, failed, ta
                     q1[i, j] = x[3 + j]
         else:
             ntr = math.sqrt(sig_tr[0] ** 2 + sig_tr[1] ** 2 + sig_tr[2] ** 2)
-            if sig_tr[2] <= _TOL * ntr or _apex_region(sig_tr, qn, p, dv, w):
+            if sig_tr[2] <= _TOL * ntr or _apex_region(lf, l1, l2, clip, sig_tr, qn, p, dv, w):
                 apex = True
             else:
                 failed[i] = True
@@ -303,7 +379,7 @@ def _one(i, e, pl, q, du, kt, kn, kappa_col, e1, p1, q1, res, status, failed, ta
             tangent[i, 2, 2] = -kn
         elif kind == _PLASTIC:
             # dσ/dσ_trial: the σ-block of the inverse (unscaled) Jacobian, times E.
-            _eval(x[0], x[1], x[2], x[3:3 + NQ], p, w, 2)
+            _eval(lf, l1, l2, clip, x[0], x[1], x[2], x[3:3 + NQ], p, w, 2)
             _jacobian(w, dlam, dv, J)
             if _factor(J, piv):
                 for c in range(3):
@@ -317,38 +393,32 @@ def _one(i, e, pl, q, du, kt, kn, kappa_col, e1, p1, q1, res, status, failed, ta
                 failed[i] = True
 
 
-@njit(inline="always", error_model="numpy")
-def _range(lo, hi, e, pl, q, du, consts, e1, p1, q1, res, status, failed, tangent, want_tangent):
-    """Contacts ``lo <= i < hi``, with one workspace."""
-    kt, kn = consts[0], consts[1]
+@njit(error_model="numpy", _nrt=False)
+def _range(lf, l1, l2, lo, hi, e, pl, q, du, consts, e1, p1, q1, res, status, failed, tangent,
+           want_tangent, sig_tr, dv, p, qn, V, w, wk, J, piv):
+    """Contacts ``lo <= i < hi``, with one workspace (no reference counting in the loop)."""
     kappa_col = int(consts[2])
-    dv = np.array([kt, kt, kn])
-    p = consts[3:].copy()
-    sig_tr, qn = np.empty(3), np.empty(NQ)
-    V = np.zeros((7, _M))
-    w, wk = np.zeros(SIZE), np.zeros(SIZE)
-    J, piv = np.empty((_M, _M)), np.empty(_M, dtype=np.int64)
+    clip = consts[3] != 0.0
+    x, step = V[0], V[6]
     for i in range(lo, hi):
-        _one(i, e, pl, q, du, kt, kn, kappa_col, e1, p1, q1, res, status, failed, tangent,
-             want_tangent, sig_tr, dv, p, qn, V, w, wk, J, piv)
+        _one(lf, l1, l2, clip, i, e, pl, q, du, kappa_col, e1, p1, q1, res, status, failed,
+             tangent, want_tangent, sig_tr, dv, p, qn, V, x, step, w, wk, J, piv)
 
 
-@njit(parallel=True, cache=True, error_model="numpy")
-def update(inputs, consts, outputs, want_tangent):
-    """All contacts, in parallel chunks (one workspace per chunk)."""
+@njit(nogil=True, cache=True, error_model="numpy")
+def update(lf, l1, l2, inputs, consts, outputs, want_tangent, lo, hi):
+    """Contacts ``lo <= i < hi`` of a law given by the addresses ``lf, l1, l2`` of its local
+    functions (without the GIL: the caller runs chunks on threads)."""
     e, pl, q, du = inputs
     e1, p1, q1, res, status, failed, tangent = outputs
-    n = e.shape[0]
-    chunks = min(n, 16 * get_num_threads())
-    for c in prange(chunks):
-        _range(c * n // chunks, (c + 1) * n // chunks, e, pl, q, du, consts, e1, p1, q1, res,
-               status, failed, tangent, want_tangent)
-
-
-@njit(cache=True, error_model="numpy")
-def update_serial(inputs, consts, outputs, want_tangent):
-    """All contacts, on one thread (small batches)."""
-    e, pl, q, du = inputs
-    e1, p1, q1, res, status, failed, tangent = outputs
-    _range(0, e.shape[0], e, pl, q, du, consts, e1, p1, q1, res, status, failed, tangent,
-           want_tangent)
+    NQ = q.shape[1]
+    M = 4 + NQ
+    SIZE = _layout(NQ)[8]
+    dv = np.array([consts[0], consts[0], consts[1]])
+    p = consts[4:].copy()
+    sig_tr, qn = np.empty(3), np.empty(NQ)
+    V = np.zeros((7, M))
+    w, wk = np.zeros(SIZE), np.zeros(SIZE)
+    J, piv = np.empty((M, M)), np.empty(M, dtype=np.int64)
+    _range(lf, l1, l2, lo, hi, e, pl, q, du, consts, e1, p1, q1, res, status, failed, tangent,
+           want_tangent, sig_tr, dv, p, qn, V, w, wk, J, piv)
