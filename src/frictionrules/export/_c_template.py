@@ -1,6 +1,6 @@
 """The return mapping in C99: the text the ``c`` target writes after the law's local functions.
 
-The algorithm is the one of the compiled return mapping (``contact/_kernel_template.py``),
+The algorithm is the one of the compiled return mapping (``contact/_return_kernel.py``),
 line for line: elastic trial (4.2), separation, limit check, backward Euler solved by Newton's
 method on the dimensionless residual with a backtracking line search, returns that end at the
 apex of a cone, the consistent tangent (the σ-block of the inverse Jacobian times E), and the

@@ -1,7 +1,7 @@
 """The return mapping in fixed-form Fortran 77: the text the Abaqus targets write after the
 law's local subroutines.
 
-Line for line the algorithm of the compiled return mapping (``contact/_kernel_template.py``)
+Line for line the algorithm of the compiled return mapping (``contact/_return_kernel.py``)
 and of the C target (``_c_template.py``): limit check, Newton on the dimensionless residual
 with a backtracking line search, apex of a cone, consistent tangent. ``@P@`` is replaced by the
 prefix of the law's names and ``@PARAMS@`` by the PARAMETER statements of the layout (``NQ``,
