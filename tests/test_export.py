@@ -145,3 +145,18 @@ def test_compile_tests_skip_without_a_compiler_and_fail_in_ci(monkeypatch):
     monkeypatch.setenv("CI", "true")
     with pytest.raises(pytest.fail.Exception, match="CI=true"):
         harness.compiler("c")
+
+
+def test_files_are_the_same_bytes_in_another_process(tmp_path):
+    """Reproducible across processes (string hashing randomized differently): no order of a
+    set or dict leaks into the printed code."""
+    import os
+    import subprocess
+    import sys
+    code = ("import frictionrules as fr, sys\n"
+            "fr.export(fr.EllipsoidCap(m=0.6), 'abaqus-uinter', sys.argv[1], kt=1e4, kn=1e5)\n")
+    for k, seed in enumerate(("1", "2")):
+        env = os.environ | {"PYTHONHASHSEED": seed}
+        subprocess.run([sys.executable, "-c", code, str(tmp_path / str(k))], check=True, env=env)
+    for p in (tmp_path / "0").iterdir():
+        assert p.read_bytes() == (tmp_path / "1" / p.name).read_bytes(), p.name
