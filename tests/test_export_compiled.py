@@ -272,10 +272,11 @@ def test_fric_tangent_is_the_derivative_of_tau(key, nfdir, frics):
     assert checked >= 5
 
 
-@pytest.mark.parametrize("key, unsymmetric", [("coulomb", False), ("nonassoc", True)])
+@pytest.mark.parametrize("key, unsymmetric", [("coulomb", False), ("elliptic", False),
+                                             ("hardening", False), ("nonassoc", True)])
 def test_fric_tangent_is_symmetric_only_for_an_associated_isotropic_law(key, unsymmetric, frics):
-    """An associated isotropic law gives a symmetric DDTDDG, a non-associated one an
-    unsymmetric one, and its snippet asks for UNSYMM=YES."""
+    """An associated law (isotropic, elliptic, with slip hardening) gives a symmetric DDTDDG,
+    a non-associated one an unsymmetric one, and its snippet asks for UNSYMM=YES."""
     fric, res = frics(key)
     assert res.unsymmetric == unsymmetric
     snippet = next(p for p in res.files if p.suffix == ".inp").read_text()
