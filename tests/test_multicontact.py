@@ -105,7 +105,7 @@ def stacked_blocks(F, m1=1.0, m2=0.5, mu1=0.4, mu2=0.3, h=0.01, g=9.81):
 
 @pytest.mark.parametrize("method", METHODS)
 def test_two_stacked_blocks_closed_forms(method):
-    m1, m2, mu1, mu2, h, g = 1.0, 0.5, 0.4, 0.3, 0.01, 9.81
+    m1, m2, mu2, h, g = 1.0, 0.5, 0.3, 0.01, 9.81   # as in stacked_blocks (μ1 = 0.4 there)
     # (a) F below both thresholds: everything sticks, the push goes to the ground
     F = 0.5 * mu2 * m2 * g
     s = solve(stacked_blocks(F).condense(), method=method, tol=1e-12)

@@ -29,10 +29,12 @@ from llvmlite import ir
 from numba import njit, types
 from numba.extending import intrinsic
 
-_TOL = 1e-13
-_MAX_ITER = 60
-_MAX_HALVINGS = 12
-_ELASTIC, _PLASTIC, _OPEN = 0, 1, 2
+from .integrate import MAX_HALVINGS as _MAX_HALVINGS
+from .integrate import MAX_ITER as _MAX_ITER
+from .integrate import TOL as _TOL
+from .state import ELASTIC as _ELASTIC
+from .state import OPEN as _OPEN
+from .state import PLASTIC as _PLASTIC
 
 _ARR = types.float64[::1]
 _PTR = types.CPointer(types.float64)

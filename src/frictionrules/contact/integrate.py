@@ -35,10 +35,13 @@ import numpy as np
 from ..laws import LocalDerivatives
 from ..laws.base import safe_ratio
 
-#: Newton tolerance on the scaled residual, and the iteration limits.
+#: Newton tolerance on the dimensionless residual: a few hundred ulps of the force scale, far
+#: below any physical tolerance and reached in one or two quadratic steps from 1e-7.
 TOL = 1e-13
-_MAX_ITER = 60
-_MAX_HALVINGS = 12
+#: Newton iterations before a contact is substepped (quadratic convergence needs < 10).
+MAX_ITER = 60
+#: Step halvings of the backtracking line search (down to 2^-12 of a Newton step).
+MAX_HALVINGS = 12
 
 
 class Surface:
@@ -168,7 +171,7 @@ def return_map(surface, sigma_tr, q_n, Dv) -> ReturnResult:
     R = _residual(loc, sigma, q, dlam, sigma_tr, q_n, Dv) * rows
     merit = np.linalg.norm(R, axis=-1)
     active = np.ones(n, dtype=bool)
-    for _ in range(_MAX_ITER):
+    for _ in range(MAX_ITER):
         active &= ~(merit <= TOL)
         idx = np.flatnonzero(active)
         if idx.size == 0:
@@ -181,7 +184,7 @@ def return_map(surface, sigma_tr, q_n, Dv) -> ReturnResult:
         step[~ok] = 0.0
         alpha = np.ones(idx.size)
         pending = np.ones(idx.size, dtype=bool)
-        for _ in range(_MAX_HALVINGS):
+        for _ in range(MAX_HALVINGS):
             k = idx[pending]
             s_k = step[pending] * alpha[pending, None]
             sig_k, q_k = sigma[k] + s_k[:, :3], q[k] + s_k[:, 3:-1]

@@ -98,10 +98,10 @@ def directional_friction(ax=None, mu_x: float = 0.6, mu_y: float = 0.3):
     elliptic (1.15), Huber (1.16) and transformed Coulomb (1.17)."""
     ax = _axes(ax, "polar")
     theta = np.linspace(0, 2 * np.pi, 721)
-    for law, label in ((EllipticOrthotropic(mu_x, mu_y), "elliptic, normality (1.15)"),
-                       (Huber(mu_x, mu_y), "Huber (1.16)"),
-                       (TransformedCoulomb(mu_x, mu_y), "transformed (1.17)")):
-        ax.plot(theta, law.friction_coefficient(theta), label=label)
+    for law, name in ((EllipticOrthotropic(mu_x, mu_y), "elliptic, normality (1.15)"),
+                      (Huber(mu_x, mu_y), "Huber (1.16)"),
+                      (TransformedCoulomb(mu_x, mu_y), "transformed (1.17)")):
+        ax.plot(theta, law.friction_coefficient(theta), label=name)
     ax.set_title(f"friction coefficient $\\mu(\\theta)$ for sliding at $\\theta$: three orthotropic "
                  f"rules,\n$\\mu_x$ = {mu_x:g}, $\\mu_y$ = {mu_y:g}", fontsize=10, pad=14)
     legend_beside(ax, "below", ncol=2)
