@@ -5,15 +5,17 @@ line for line: elastic trial (4.2), separation, limit check, backward Euler solv
 method on the dimensionless residual with a backtracking line search, returns that end at the
 apex of a cone, the consistent tangent (the σ-block of the inverse Jacobian times E), and the
 substepping of :class:`~frictionrules.ContactModel` where Newton fails (halving, depth 10).
-``@NAME@`` is replaced by the function prefix. The enum constants (``NQ``, ``SIZE``, the
+``@NAME@`` is replaced by the function prefix, ``@TOL@``, ``@MAX_ITER@`` and
+``@MAX_HALVINGS@`` by the limits of :mod:`frictionrules.contact.integrate` (one home for every
+return mapping). The enum constants (``NQ``, ``SIZE``, the
 offsets ``OFF_*``, ``CLIP``, ``KAPPA``) and ``local_f``, ``local_first``, ``local_full`` come
 before this text.
 """
 
 CORE = r"""
-#define TOL 1e-13
-#define MAX_ITER 60
-#define MAX_HALVINGS 12
+#define TOL @TOL@
+#define MAX_ITER @MAX_ITER@
+#define MAX_HALVINGS @MAX_HALVINGS@
 #define MAX_DEPTH 10
 #define M (4 + NQ)
 #define NQS (NQ > 0 ? NQ : 1)

@@ -5,7 +5,9 @@ Line for line the algorithm of the compiled return mapping (``contact/_return_ke
 and of the C target (``_c_template.py``): limit check, Newton on the dimensionless residual
 with a backtracking line search, apex of a cone, consistent tangent. ``@P@`` is replaced by the
 prefix of the law's names and ``@PARAMS@`` by the PARAMETER statements of the layout (``NQ``,
-``NQS``, ``M``, ``NSIZE``, ``ICLIP``, ``KAPPA``, the offsets ``OFF*``). Every name is declared
+``NQS``, ``M``, ``NSIZE``, ``ICLIP``, ``KAPPA``, the offsets ``OFF*``), ``@TOL@``,
+``@MAX_ITER@`` and ``@MAX_HALVINGS@`` by the limits of :mod:`frictionrules.contact.integrate`
+(one home for the NumPy, Numba, C and Fortran returns). Every name is declared
 (``IMPLICIT NONE``); no line passes column 72.
 """
 
@@ -223,8 +225,8 @@ C converged. Leaves the last iterate in X, the law's quantities in W.
       COLS(M) = ALAMS
       X(M) = 0.0D0
       AMERIT = @P@RS(W, X, STR, QN, DV, ROWS, R)
-      DO 90 IT = 1, 60
-         IF (AMERIT .LE. 1.0D-13) GO TO 100
+      DO 90 IT = 1, @MAX_ITER@
+         IF (AMERIT .LE. @TOL@) GO TO 100
          IF (.NOT. FULL) CALL @P@EV(X(1), X(2), X(3), X(4), P, W, 2)
          CALL @P@JA(W, X(M), DV, AJ)
          DO 35 B = 1, M
@@ -242,7 +244,7 @@ C converged. Leaves the last iterate in X, the law's quantities in W.
    50    CONTINUE
          ALPHA = 1.0D0
          ACCEPT = .FALSE.
-         DO 80 IH = 1, 12
+         DO 80 IH = 1, @MAX_HALVINGS@
             DO 60 A = 1, M
                XK(A) = X(A) + ALPHA*STEP(A)
    60       CONTINUE
@@ -265,7 +267,7 @@ C converged. Leaves the last iterate in X, the law's quantities in W.
    80    CONTINUE
    85    IF (.NOT. ACCEPT) RETURN
    90 CONTINUE
-  100 @P@NR = AMERIT .LE. 1.0D-13 .AND. X(M) .GE. 0.0D0
+  100 @P@NR = AMERIT .LE. @TOL@ .AND. X(M) .GE. 0.0D0
       RETURN
       END
 C ----------------------------------------------------------------------
@@ -311,7 +313,7 @@ C WANT, DSIG = dSIGMA/dSIGMA_trial), 3 apex of a cone, -1 failed.
       IF (W(1) .LE. 0.0D0) RETURN
       IF (.NOT. @P@NR(STR, QN, P, DV, X, W)) THEN
          KIND = -1
-         IF (STR(3) .LE. 1.0D-13*ANTR) KIND = 3
+         IF (STR(3) .LE. @TOL@*ANTR) KIND = 3
          IF (KIND .EQ. -1) THEN
             IF (@P@AX(STR, QN, P, DV, W)) KIND = 3
          END IF
@@ -320,7 +322,7 @@ C WANT, DSIG = dSIGMA/dSIGMA_trial), 3 apex of a cone, -1 failed.
       DLAM = X(M)
       KIND = 3
       IF (X(3) .LT. 0.0D0) RETURN
-      IF (SQRT(X(1)**2 + X(2)**2 + X(3)**2) .LE. 1.0D-13*ANTR) RETURN
+      IF (SQRT(X(1)**2 + X(2)**2 + X(3)**2) .LE. @TOL@*ANTR) RETURN
       KIND = 1
       DO 30 A = 1, 3
          SIG(A) = X(A)

@@ -54,9 +54,12 @@ def real(value: float) -> str:
 
 def fill(template: str, spec) -> str:
     """A template with the law's prefix, layout, number of parameters and virgin state in."""
+    from ..contact.integrate import MAX_HALVINGS, MAX_ITER, TOL
     q0 = ", ".join(real(v) for v in spec.initial) or "0.0D0"
     return (template.replace("@PARAMS@", parameter_block(spec)).replace("@P@", prefix(spec))
-            .replace("@NPAR@", str(len(spec.param_names))).replace("@Q0@", q0))
+            .replace("@NPAR@", str(len(spec.param_names))).replace("@Q0@", q0)
+            .replace("@TOL@", real(TOL)).replace("@MAX_ITER@", str(int(MAX_ITER)))
+            .replace("@MAX_HALVINGS@", str(int(MAX_HALVINGS))))
 
 
 def law_subroutines(spec) -> str:
