@@ -52,6 +52,11 @@ HINTS = {
                                 "@profile.csv"],
     ("asperity", "normals"): ["0,0,1", "-0.5,0,0.866;0.5,0,0.866", "0,0,1;1,0,0"],
     ("paper", "only"): ["fig1a_coulomb_cone"],
+    ("export", "spec"): ["coulomb", "elliptic", "wedge", "user", "@drive.toml", "@config.toml"],
+    ("export", "target"): ["abaqus-fric", "abaqus-vfric", "abaqus-uinter", "c", "ansys"],
+    ("export", "limit"): ["sqrt(T1**2 + T2**2) - 0.3*N", "T1^2/0.36 + T2^2/0.09 - N^2"],
+    ("export", "param"): ["mu=0.3", "mu_x=0.6", "mu_y=0.3", "alpha=1", "dilatant=yes"],
+    ("export", "name"): ["law", "x1", "1x", "a_b"],
 }
 #: Valid command lines that the fuzzer mutates (replaces a value by an adversarial one, drops a
 #: token, adds an option); ``@name`` is a fixture file, ``{out}`` the output folder.
@@ -80,6 +85,12 @@ TEMPLATES = {
     "solve": [["@tiny.hdf5", "--method", "nsgs", "--csv", "{out}/s.csv"],
               ["@tiny.hdf5", "--method", "newton", "--tol", "1e-10"]],
     "paper": [["--out", "{out}/paper", "--format", "png"]],
+    "export": [["coulomb", "--mu", "0.3", "--target", "abaqus-fric", "--kt", "1e4", "--out",
+                "{out}/e"],
+               ["elliptic", "--mu-x", "0.6", "--mu-y", "0.3", "--angle", "20", "--deg",
+                "--target", "c", "--kt", "100", "--kn", "200", "--out", "{out}/c"],
+               ["wedge", "--alpha", "0.3", "--mu", "0.2", "--target", "abaqus-uinter", "--kt",
+                "1e4", "--kn", "1e5", "--out", "{out}/u"]],
 }
 #: Options that always get a value from a small pool, so that valid draws run fast.
 ALWAYS = {
@@ -310,7 +321,7 @@ def check(argv, rc, err):
 
 
 #: Examples per subcommand (default 25): fewer where a valid draw runs for seconds.
-EXAMPLES = {"paper": 8, "law": 40, "configuration": 40, "drive": 40, "solve": 30, "asperity": 30}
+EXAMPLES = {"paper": 8, "export": 15, "law": 40, "configuration": 40, "drive": 40, "solve": 30, "asperity": 30}
 
 
 @pytest.mark.parametrize("name", cli.SUBCOMMANDS)

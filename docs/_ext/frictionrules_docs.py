@@ -82,8 +82,12 @@ def _directive(obj) -> str:
 
 def _api_page(sub: str, entries: list[tuple[str, str, object]]) -> str:
     """The page of ``frictionrules.<sub>``: its docstring, then ``(module, name, object)``."""
+    import frictionrules
     title = f"``frictionrules.{sub}``"
-    lines = [title, "=" * len(title), "", f".. automodule:: frictionrules.{sub}", "   :no-members:", ""]
+    lines = [title, "=" * len(title), "", f".. automodule:: frictionrules.{sub}", "   :no-members:"]
+    if getattr(frictionrules, sub, None) is not sys.modules.get(f"frictionrules.{sub}"):
+        lines.append("   :no-index:")  # frictionrules.export is the function of the package export
+    lines.append("")
     current = None
     for module, name, obj in entries:
         if module != current:

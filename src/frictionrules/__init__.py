@@ -37,6 +37,8 @@ from .multicontact import (ADMMOptions, FrictionContactProblem, IterationInfo, N
 from .parallel import SweepPoint, sweep
 # elastic-plastic contact with hardening and softening (§4)
 from .contact import ContactModel, ContactState, DriveResult, UpdateResult, drive
+# export to finite-element codes (Abaqus user subroutines, C)
+from .export import ExportResult, export
 # configuration softening: grains sliding over layers (§3)
 from .configuration import (
     CylinderOnLayer,
@@ -109,6 +111,9 @@ __all__ = [
     "ContactState",
     "UpdateResult",
     "DriveResult",
+    # export to finite-element codes
+    "export",
+    "ExportResult",
     # configuration softening (§3)
     "CylinderOnLayer",
     "SphereOnLayer",

@@ -31,17 +31,9 @@ def _law_name(text: str) -> str:
     return key
 
 
-def register(sub) -> None:
-    p = sub.add_parser(
-        "law", help="evaluate a friction law at a force: f, state, slip direction, mu(theta)",
-        description="Evaluate a law at (T, N): the limit condition f and the state (stick inside "
-                    "the limit surface, slip on it), the slip direction of its sliding rule when "
-                    "it slips, the directional friction coefficient mu(theta) and the angle beta "
-                    "of the limit force that slides at theta. theta is --theta, or the slip angle "
-                    "when the force slips, or else the direction of T. Laws and their "
-                    "parameters: " + "; ".join(f"{k} ({', '.join(v[1])})" for k, v in LAWS.items()),
-        epilog="example: frictionrules law elliptic --mu-x 0.6 --mu-y 0.3 --force 0.3 0.2 --normal 1 --json")
-    p.add_argument("name", type=_law_name, metavar="NAME", help=f"one of: {', '.join(LAWS)}")
+def add_law_arguments(p) -> None:
+    """The options that give a law's parameters (shared by the subcommands that take a law
+    as ``frictionrules law`` does; :func:`build_law` reads them)."""
     for name in _FLOATS:
         flags = sorted({f"--{name.replace('_', '-')}", f"--{name}"})
         p.add_argument(*flags, dest=name, type=finite_float, default=None,
@@ -56,6 +48,20 @@ def register(sub) -> None:
     p.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
                    help="any parameter as NAME=VALUE (repeatable); for a user law, the value of "
                         "a parameter its expressions name (--param mu=0.3)")
+
+
+def register(sub) -> None:
+    p = sub.add_parser(
+        "law", help="evaluate a friction law at a force: f, state, slip direction, mu(theta)",
+        description="Evaluate a law at (T, N): the limit condition f and the state (stick inside "
+                    "the limit surface, slip on it), the slip direction of its sliding rule when "
+                    "it slips, the directional friction coefficient mu(theta) and the angle beta "
+                    "of the limit force that slides at theta. theta is --theta, or the slip angle "
+                    "when the force slips, or else the direction of T. Laws and their "
+                    "parameters: " + "; ".join(f"{k} ({', '.join(v[1])})" for k, v in LAWS.items()),
+        epilog="example: frictionrules law elliptic --mu-x 0.6 --mu-y 0.3 --force 0.3 0.2 --normal 1 --json")
+    p.add_argument("name", type=_law_name, metavar="NAME", help=f"one of: {', '.join(LAWS)}")
+    add_law_arguments(p)
     p.add_argument("--force", nargs=2, type=finite_float, required=True, metavar=("T1", "T2"),
                    help="tangential force (for wedge: horizontal load Tx Ty)")
     p.add_argument("--normal", type=finite_float, required=True, metavar="N",

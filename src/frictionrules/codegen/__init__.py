@@ -4,11 +4,15 @@
 common subexpressions, then every quantity the implicit return mapping needs (f, g's gradient,
 the evolution h of the internal variables and their derivatives) in one fixed layout. Printers
 write that program in a target language; the compiled return mapping of
-:mod:`frictionrules.contact` prints it for Numba.
+:mod:`frictionrules.contact` prints it for Numba, the exporter of :func:`frictionrules.export`
+in C99 and fixed-form Fortran 77.
 """
 
+from ._c import c_function, c_helpers
+from ._fortran import fixed_form, fortran_helpers, fortran_subroutine
 from ._program import LOCAL_FIELDS, Program, local_layout, local_program
 from ._python import parameter_temps, python_function
 
 __all__ = ["LOCAL_FIELDS", "Program", "local_layout", "local_program", "python_function",
-           "parameter_temps"]
+           "parameter_temps", "c_function", "c_helpers", "fortran_subroutine", "fortran_helpers",
+           "fixed_form"]

@@ -1,0 +1,124 @@
+"""``frictionrules.export``: write a law as code for a finite-element host."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+from ..errors import FrictionRulesError
+
+__all__ = ["ExportResult", "export"]
+
+
+@dataclass(frozen=True)
+class ExportResult:
+    """What :func:`export` wrote.
+
+    Attributes
+    ----------
+    target : str
+        The target (``"abaqus-fric"``, ``"abaqus-vfric"``, ``"abaqus-uinter"`` or ``"c"``).
+    files : tuple of pathlib.Path
+        The paths written: code, input snippet (a usage example for ``c``), README.
+    props : tuple of float
+        The PROPS values in order (for ``c``: the ``params`` array, ``kt, kn`` first).
+    nstatv : int
+        Number of state variables (DEPVAR; for ``c`` the length of the state array).
+    props_names, statev_names : tuple of str
+        Names of the PROPS and STATEV entries, in order.
+    unsymmetric : bool
+        The consistent tangent may be unsymmetric (the snippet asks for ``UNSYMM=YES``).
+    """
+
+    target: str
+    files: tuple
+    props: tuple
+    nstatv: int
+    props_names: tuple
+    statev_names: tuple
+    unsymmetric: bool
+
+
+def export(law, target: str, out_dir, *, kt, kn=None, hardening=None, name=None) -> ExportResult:
+    r"""Write ``law`` as a user subroutine or C kernel, with its input snippet and README.
+
+    The code is printed from the law's symbolic form (:func:`frictionrules.codegen.local_program`:
+    the derivatives of f, g and the evolution (4.5) the implicit return map needs) and runs the
+    algorithm of :class:`~frictionrules.ContactModel`: elastic trial (4.2), backward Euler on
+    (4.3), (4.5) by Newton with a line search, the consistent tangent. Files are byte-for-byte
+    reproducible (the package version and the law's parameters in a header, no dates).
+
+    Parameters
+    ----------
+    law : FrictionLaw
+        Any law with a symbolic form (built-in laws, :class:`~frictionrules.UserLaw`, the cap).
+    target : {"abaqus-fric", "abaqus-vfric", "abaqus-uinter", "c"}
+        ``abaqus-fric``: tangential return map at the pressure Abaqus passes (laws whose sliding
+        rule has no normal part); ``abaqus-uinter``: the whole interface law with the normal
+        penalty ``kn``; ``abaqus-vfric``: explicit, the inverse relation of a conical law times
+        the normal force; ``c``: ``<name>_update(params, state_in, increment, state_out, force,
+        tangent)`` in C99.
+    out_dir : path
+        Folder written to (created if needed).
+    kt : float
+        Elastic-slip (tangential penalty) stiffness, > 0: force/length for ``c``, stress/length
+        (shear stress per unit slip) for Abaqus.
+    kn : float, optional
+        Normal penalty stiffness, > 0; required by ``abaqus-uinter`` and ``c``.
+    hardening : SlipHardening, optional
+        Slip hardening of a law without internal variables (exported as
+        ``HardenedLaw(law, hardening)``).
+    name : str, optional
+        Identifier of the generated functions and files (default: the law's class name in
+        lower case); a letter then up to 19 letters, digits or ``_``.
+
+    Returns
+    -------
+    ExportResult
+
+    Raises
+    ------
+    FrictionRulesError
+        Bad arguments, a law without a symbolic form, or a law the target cannot express;
+        nothing is written then.
+    """
+    from .._output import write_text
+    from ._files import readme, readme_name, snippet
+    from ._spec import law_spec
+    from ._targets import TARGETS, write_c, write_fric, write_uinter, write_vfric
+    if target not in TARGETS:
+        raise FrictionRulesError(f"target = {target!r} violates: one of {', '.join(TARGETS)}")
+    out = _folder(out_dir)
+    spec = law_spec(law, kt=kt, kn=kn, hardening=hardening, name=name)
+    writer = {"abaqus-fric": write_fric, "abaqus-vfric": write_vfric,
+              "abaqus-uinter": write_uinter, "c": write_c}[target]
+    written = writer(spec)
+    texts = dict(written.files)
+    snip_name, snip = snippet(target, spec, written)
+    texts[snip_name] = snip
+    rname = readme_name(target, spec)
+    texts[rname] = readme(target, spec, written, [*texts, rname])
+    paths = tuple(write_text(out / fname, text) for fname, text in texts.items())
+    return ExportResult(target, paths, tuple(float(v) for v in written.props),
+                        len(written.statev_entries),
+                        tuple(e.name for e in written.props_entries),
+                        tuple(e.name for e in written.statev_entries), written.unsymmetric)
+
+
+def _folder(out_dir) -> Path:
+    """The output folder, checked before any work: a folder, or a path whose nearest existing
+    ancestor is a folder this process may write in."""
+    import os
+    text = os.fspath(out_dir) if isinstance(out_dir, (str, os.PathLike)) else None
+    if not text or "\x00" in str(text):
+        raise FrictionRulesError(f"out_dir = {out_dir!r} violates: a folder name")
+    path = Path(text)
+    if path.exists() and not path.is_dir():
+        raise FrictionRulesError(f"out_dir = {text!r} violates: must be a folder")
+    folder = path
+    while not folder.exists() and folder != folder.parent:
+        folder = folder.parent
+    if not folder.is_dir() or not os.access(folder, os.W_OK | os.X_OK):
+        raise FrictionRulesError(f"out_dir = {text!r}: {str(folder)!r} is not a writable folder; "
+                                 "constraint: a folder you may write in")
+    return path
