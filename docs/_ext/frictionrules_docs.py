@@ -57,10 +57,13 @@ def _write(path: Path, text: str) -> None:
 
 
 def _subpackages() -> list[str]:
+    """Public subpackages, and private packages whose names are re-exported (``_export``,
+    documented as ``export``)."""
     import frictionrules
     found = [m.name for m in pkgutil.iter_modules(frictionrules.__path__)
-             if not m.name.startswith("_") and m.name not in SKIP]
-    return sorted(found, key=lambda n: (ORDER.index(n) if n in ORDER else len(ORDER), n))
+             if (not m.name.startswith("_") or m.ispkg) and m.name.lstrip("_") not in SKIP]
+    return sorted(found, key=lambda n: (ORDER.index(n.lstrip("_")) if n.lstrip("_") in ORDER
+                                        else len(ORDER), n.lstrip("_")))
 
 
 def _home(obj, name: str) -> str | None:
@@ -82,12 +85,9 @@ def _directive(obj) -> str:
 
 def _api_page(sub: str, entries: list[tuple[str, str, object]]) -> str:
     """The page of ``frictionrules.<sub>``: its docstring, then ``(module, name, object)``."""
-    import frictionrules
-    title = f"``frictionrules.{sub}``"
-    lines = [title, "=" * len(title), "", f".. automodule:: frictionrules.{sub}", "   :no-members:"]
-    if getattr(frictionrules, sub, None) is not sys.modules.get(f"frictionrules.{sub}"):
-        lines.append("   :no-index:")  # frictionrules.export is the function of the package export
-    lines.append("")
+    title = f"``frictionrules.{sub.lstrip('_')}``"
+    lines = [title, "=" * len(title), "", f".. automodule:: frictionrules.{sub}", "   :no-members:",
+             ""]
     current = None
     for module, name, obj in entries:
         if module != current:
@@ -145,9 +145,9 @@ def write_api(app) -> None:
             logger.warning(f"frictionrules.{name} has no API page (its module is {home!r})")
     api = DOCS / "api"
     for sub in subs:
-        _write(api / f"{sub}.rst", _api_page(sub, by_sub[sub]))
+        _write(api / f"{sub.lstrip('_')}.rst", _api_page(sub, by_sub[sub]))
     _write(api / "cli.md", _cli_page())
-    toc = "\n".join(subs + ["cli"])
+    toc = "\n".join([s.lstrip("_") for s in subs] + ["cli"])
     _write(api / "index.md", "# API reference\n\nEverything is importable from `frictionrules`; "
            "each page documents one subpackage.\n\n```{toctree}\n:maxdepth: 1\n\n" + toc + "\n```\n")
 

@@ -38,7 +38,7 @@ from .parallel import SweepPoint, sweep
 # elastic-plastic contact with hardening and softening (§4)
 from .contact import ContactModel, ContactState, DriveResult, UpdateResult, drive
 # export to finite-element codes (Abaqus user subroutines, C)
-from .export import ExportResult, export
+from ._export import ExportResult, export
 # configuration softening: grains sliding over layers (§3)
 from .configuration import (
     CylinderOnLayer,
