@@ -66,7 +66,7 @@ def _layout(nq):
             16 + 8 * nq + nq * nq)
 
 
-@njit(error_model="numpy", _nrt=False)
+@njit(inline="always", error_model="numpy", _nrt=False)
 def _eval(lf, l1, l2, clip, s0, s1, s2, q, p, w, level):
     """The law's quantities at (T1, T2, N, q) into ``w``, finite at kinks: a derivative that
     is not finite (0/0 at the apex of a cone) is written as 0, the minimal-norm subgradient, by
@@ -90,7 +90,7 @@ def _eval(lf, l1, l2, clip, s0, s1, s2, q, p, w, level):
         w[0] = best
 
 
-@njit(error_model="numpy", _nrt=False)
+@njit(inline="always", error_model="numpy", _nrt=False)
 def _residual(w, x, sig_tr, qn, dv, rows, out):
     """Scaled backward-Euler residual at ``x = (σ, q, Δλ)`` into ``out``; returns its norm."""
     NQ = qn.shape[0]
@@ -182,7 +182,7 @@ def _lu_solve(J, piv, b):
         b[r] = acc / J[r, r]
 
 
-@njit(error_model="numpy", _nrt=False)
+@njit(inline="always", error_model="numpy", _nrt=False)
 def _first_step(w, R, rows, dv, step):
     """Newton step from ``Δλ = 0`` (unscaled, into ``step``): with the unscaled residual
     ``r = (r_σ, r_q, f)``, ``Δλ = (f - ∇f·r_σ - ∂f/∂q·r_q) / (∇f·D∇g - ∂f/∂q·h)``,
