@@ -212,6 +212,7 @@ def _first_step(w, R, rows, dv, step):
 @njit(error_model="numpy", _nrt=False)
 def _return(lf, l1, l2, clip, sig_tr, qn, p, dv, V, w, wk, J, piv):
     """Newton return of ``sig_tr`` onto f = 0 from ``x = (σ_tr, q_n, 0)``; True if converged.
+    On entry ``w`` holds the law's first-level quantities at the trial.
 
     ``V`` holds the vectors of the iteration (rows: iterate, trial iterate, row and column
     scales, residual, trial residual, step). Leaves the last iterate in ``V[0]`` and the law's
@@ -222,7 +223,6 @@ def _return(lf, l1, l2, clip, sig_tr, qn, p, dv, V, w, wk, J, piv):
     OFF_DF, OFF_DFQ, OFF_DG, OFF_HGG, OFF_HGQ, OFF_H, OFF_DHS, OFF_DHQ, SIZE = _layout(NQ)
     x, xk, rows, cols, R, Rk, step = V[0], V[1], V[2], V[3], V[4], V[5], V[6]
     F = max(math.sqrt(sig_tr[0] ** 2 + sig_tr[1] ** 2 + sig_tr[2] ** 2), 1e-300)
-    _eval(lf, l1, l2, clip, sig_tr[0], sig_tr[1], sig_tr[2], qn, p, w, 1)
     full = False
     dfn = math.sqrt(w[OFF_DF] ** 2 + w[OFF_DF + 1] ** 2 + w[OFF_DF + 2] ** 2)
     fs = max(dfn * F, 1e-300)
@@ -376,7 +376,8 @@ def _one(lf, l1, l2, clip, i, e, pl, q, du, kappa_col, e1, p1, q1, res, status, 
     dlam = 0.0
     s0 = s1 = s2 = 0.0
     if sig_tr[2] > 0.0:
-        _eval(lf, l1, l2, clip, sig_tr[0], sig_tr[1], sig_tr[2], qn, p, w, 0)
+        # The residual's quantities at the trial: the limit check, and the return's start.
+        _eval(lf, l1, l2, clip, sig_tr[0], sig_tr[1], sig_tr[2], qn, p, w, 1)
         if w[0] <= 0.0:
             kind = _ELASTIC
             s0, s1, s2 = sig_tr[0], sig_tr[1], sig_tr[2]
