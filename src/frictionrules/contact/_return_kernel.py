@@ -209,7 +209,7 @@ def _first_step(w, R, rows, dv, step):
     return True
 
 
-@njit(error_model="numpy", _nrt=False)
+@njit(inline="always", error_model="numpy", _nrt=False)
 def _return(lf, l1, l2, clip, sig_tr, qn, p, dv, V, w, wk, J, piv):
     """Newton return of ``sig_tr`` onto f = 0 from ``x = (σ_tr, q_n, 0)``; True if converged.
     On entry ``w`` holds the law's first-level quantities at the trial.
