@@ -48,6 +48,8 @@ from .configuration import (
     PeakForcePolar,
     SphereOnLayer,
 )
+# grain assemblies: many grains, a law at every contact (§5, (4.12))
+from .assembly import Assembly, ContactSnapshot, SampleState, TriaxialResult, triaxial
 
 __version__ = "0.1.0"
 
@@ -118,6 +120,12 @@ __all__ = [
     "LimitPoint",
     "ForceControlResult",
     "PeakForcePolar",
+    # grain assemblies
+    "Assembly",
+    "triaxial",
+    "TriaxialResult",
+    "ContactSnapshot",
+    "SampleState",
 ]
 
 _SYMBOLS = ("T1", "T2", "N")

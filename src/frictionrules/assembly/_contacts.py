@@ -133,7 +133,7 @@ def frames(normals: np.ndarray, reference_axis: np.ndarray) -> np.ndarray:
     a = np.asarray(reference_axis, dtype=float)
     p = a[None, :] - (normals @ a)[:, None] * normals
     norm = np.linalg.norm(p, axis=1)
-    bad = norm < 1e-8
+    bad = norm < 1e-6
     if bad.any():
         other = np.zeros(3)
         other[(int(np.argmax(np.abs(a))) + 1) % 3] = 1.0
@@ -141,6 +141,8 @@ def frames(normals: np.ndarray, reference_axis: np.ndarray) -> np.ndarray:
         p[bad] = other[None, :] - (nb @ other)[:, None] * nb
         norm[bad] = np.linalg.norm(p[bad], axis=1)
     t1 = p / norm[:, None]
+    t1 -= np.sum(t1 * normals, axis=1)[:, None] * normals  # a second pass: orthogonal to rounding
+    t1 /= np.linalg.norm(t1, axis=1)[:, None]
     t2 = np.cross(normals, t1)
     return np.stack((t1, t2, normals), axis=1)
 

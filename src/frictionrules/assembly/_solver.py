@@ -243,6 +243,9 @@ def solve_increment(positions, radii, cell, contacts: ContactSet, free: np.ndarr
     it = 0
     while np.isfinite(ev.residual) and ev.residual > rtol and it < max_iterations:
         it += 1
+        # Newton's direction with the consistent tangents; where it has to be damped (a
+        # mechanism of sliding contacts, contacts opening or closing on the way) the direction
+        # of the elastic tangents is tried as well and the better of the two taken.
         step = None
         for elastic in (False, True):
             tan = _elastic_tangents(contacts, ev.status) if elastic else ev.tangent
@@ -250,13 +253,14 @@ def solve_increment(positions, radii, cell, contacts: ContactSet, free: np.ndarr
             if dx is None:
                 continue
             alpha = 1.0
-            for _ in range(10):
+            for _ in range(12):
                 trial = evaluate(x + alpha * dx)
                 if trial.residual <= rtol or trial.merit < (1 - 1e-4 * alpha) * ev.merit:
-                    step = (x + alpha * dx, trial)
+                    if step is None or trial.merit < step[1].merit:
+                        step = (x + alpha * dx, trial)
                     break
                 alpha *= 0.5
-            if step is not None:
+            if step is not None and (alpha == 1.0 or step[1].residual <= rtol):
                 break
         if step is None:
             break
@@ -281,14 +285,14 @@ def solve_increment(positions, radii, cell, contacts: ContactSet, free: np.ndarr
 
 
 def _newton_direction(B, S, R, dense: bool):
-    """Solve ``(Bᵀ S B + ε I) dx = -R``; ε = 1e-8 max|diag| lets grains without contacts (and
+    """Solve ``(Bᵀ S B + ε I) dx = -R``; ε = 1e-10 max|diag| lets grains without contacts (and
     free spins) stay where they are without changing the converged solution."""
     m = S.shape[0]
     if dense:
         SB = (S @ B.reshape(m, 3, -1)).reshape(3 * m, -1)
         J = B.T @ SB
         diag = np.abs(np.diag(J))
-        J[np.diag_indices_from(J)] += 1e-8 * (diag.max() if diag.size else 1.0)
+        J[np.diag_indices_from(J)] += 1e-10 * (diag.max() if diag.size else 1.0)
         try:
             dx = np.linalg.solve(J, -R)
         except np.linalg.LinAlgError:
@@ -300,7 +304,7 @@ def _newton_direction(B, S, R, dense: bool):
         Sm = sparse.bsr_matrix((S, np.arange(m), np.arange(m + 1)), shape=(3 * m, 3 * m))
         J = (B.T @ (Sm @ B)).tocsc()
         diag = np.abs(J.diagonal())
-        J = J + sparse.identity(J.shape[0], format="csc") * (1e-8 * (diag.max() if diag.size else 1.0))
+        J = J + sparse.identity(J.shape[0], format="csc") * (1e-10 * (diag.max() if diag.size else 1.0))
         try:
             dx = spla.spsolve(J, -R)
         except RuntimeError:
