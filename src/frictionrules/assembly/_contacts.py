@@ -23,6 +23,14 @@ __all__ = ["find_contacts", "frames", "ContactSet", "Found"]
 
 #: Grains up to this many are paired by brute force; more use a k-d tree (SciPy).
 BRUTE_FORCE_LIMIT = 120
+#: Pairs closer than this many mean radii (or the tolerance, if larger) enter the contact set,
+#: open: an increment's Newton iteration can close them (a grain rolls onto a neighbour).
+SKIN = 0.05
+
+
+def skin(assembly) -> float:
+    """Gap below which a pair of grains is in the contact set (open or closed)."""
+    return max(assembly.tolerance, SKIN * float(np.mean(assembly.radii)))
 
 
 def embed(v: np.ndarray) -> np.ndarray:
@@ -234,18 +242,20 @@ class ContactSet:
         return out
 
 
-def build(assembly, positions, cell, previous: ContactSet | None = None) -> ContactSet:
+def build(assembly, positions, cell, previous: ContactSet | None = None, *,
+          check_overlap: bool = True) -> ContactSet:
     """The contacts at the given geometry; those of ``previous`` keep their histories.
 
-    A contact of ``previous`` is kept while its grains are within the tolerance or its law
-    still carries a force; a new one starts virgin with its gap as the elastic normal
-    displacement (an overlap is a compression).
+    Pairs within the :func:`skin` gap are contacts (those beyond the tolerance start open); a
+    contact of ``previous`` is also kept while its law still carries a force. A new contact
+    starts virgin with its gap as the elastic normal displacement (an overlap is a
+    compression).
     """
-    found = find_contacts(positions, assembly.radii, cell, assembly.tolerance)
+    found = find_contacts(positions, assembly.radii, cell, skin(assembly))
     keys = [(int(a), int(b), *map(int, k)) for a, b, k in zip(found.i, found.j, found.shift)]
     old_index = {} if previous is None else {k: c for c, k in enumerate(previous.keys())}
     if previous is not None:
-        # keep contacts that still carry a force although a little further than the tolerance
+        # keep contacts that still carry a force although a little further than the skin
         elastic = previous.per_contact("elastic")
         present = set(keys)
         extra = [c for c, k in enumerate(previous.keys())
@@ -258,7 +268,7 @@ def build(assembly, positions, cell, previous: ContactSet | None = None) -> Cont
             found = Found(np.concatenate((found.i, ei)), np.concatenate((found.j, ej)),
                           np.concatenate((found.shift, es)), np.concatenate((found.gap, gap)))
             keys += [previous.keys()[c] for c in extra]
-    if np.any(found.gap < -assembly.tolerance) and previous is None:
+    if check_overlap and previous is None and np.any(found.gap < -assembly.tolerance):
         c = int(np.argmin(found.gap))
         raise FrictionRulesError(
             f"grains {int(found.i[c])} and {int(found.j[c])} overlap by {-float(found.gap[c])!r}; "

@@ -199,7 +199,7 @@ class Assembly:
     @classmethod
     def random(cls, n: int, dim: int, model, *, radius=1.0, polydispersity: float = 0.0,
                solid_fraction: float | None = None, seed: int = 0, reference_axis=(1.0, 0.0, 0.0),
-               tolerance: float = 1e-9, max_sweeps: int = 20000) -> "Assembly":
+               tolerance: float = 1e-9, max_sweeps: int = 400) -> "Assembly":
         """A dense random packing by seeded compaction (:func:`random_packing`)."""
         from ._random import random_packing
         pack = random_packing(n, dim, radius=radius, polydispersity=polydispersity,

@@ -17,10 +17,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import FrictionRulesError, check_scalar
-from ._contacts import ContactSet, build
+from ._contacts import ContactSet, branches, build, embed, skin
 from ._geometry import Assembly
 from ._results import ContactSnapshot, SampleState, TriaxialResult
-from ._solver import components, move, solve_increment
+from ._solver import components, move, solve_increment, stress_of
 
 __all__ = ["Control", "triaxial", "initial_state", "run", "KINDS"]
 
@@ -48,6 +48,22 @@ def initial_state(assembly: Assembly) -> SampleState:
     return SampleState(assembly.positions, assembly.cell, contacts, np.zeros((d, d)), np.zeros((d, d)))
 
 
+def prepared_state(assembly: Assembly, pressure: float) -> SampleState:
+    """The sample compressed without friction to ``pressure`` (its normal springs balanced,
+    no tangential force): the start of a random sample's consolidation."""
+    from ._random import frictionless_compression
+    base = build(assembly, assembly.positions, assembly.cell)
+    kns = {m.kn for m in base.models}
+    kn = float(np.mean(sorted(kns)))
+    x, h = frictionless_compression(assembly.positions, assembly.radii, assembly.cell, kn, pressure)
+    contacts = build(assembly, x, h, check_overlap=False)
+    force = snapshot(contacts).force
+    l3 = embed(branches(x, h, contacts.i, contacts.j, contacts.shift))
+    d = assembly.dim
+    stress = stress_of(force, contacts.frames, l3, float(np.linalg.det(h)), d)
+    return SampleState(x, h, contacts, stress, np.zeros((d, d)))
+
+
 def _check_laws(assembly: Assembly, state: SampleState) -> None:
     if state.contacts.size == 0:
         raise FrictionRulesError("the assembly has no contacts (every gap exceeds tolerance = "
@@ -66,7 +82,8 @@ def _attempt(assembly, state: SampleState, control: Control, cuts: int, rtol: fl
     target = np.asarray(control.target, dtype=float)
     dstrain = np.asarray(control.strain, dtype=float)
     out = solve_increment(state.positions, assembly.radii, state.cell, state.contacts, free,
-                          -dstrain, target, rtol=rtol)
+                          -dstrain, target, rtol=rtol, gap=assembly.tolerance,
+                          max_move=0.5 * skin(assembly))
     if out.converged:
         return _advance(assembly, state, out), (out.contact_work, out.boundary_work), True
     if cuts <= 0:
@@ -174,7 +191,8 @@ def check_kind(kind: str, dim: int) -> None:
 def triaxial(assembly: Assembly, kind: str, *, pressure: float, axial_strain: float = 0.01,
              increments: int = 100, consolidation_increments: int = 1, rtol: float = 1e-10,
              max_cuts: int = 8, failure_slope: float = 1e-2, progress=None,
-             max_time: float | None = None, run_file=None) -> TriaxialResult:
+             max_time: float | None = None, run_file=None,
+             consolidation: str = "auto") -> TriaxialResult:
     r"""Consolidate the sample to the isotropic ``pressure``, then compress it along the axis.
 
     Parameters
@@ -194,6 +212,12 @@ def triaxial(assembly: Assembly, kind: str, *, pressure: float, axial_strain: fl
         Equal increments of axial strain.
     consolidation_increments : int
         Increments of the isotropic stage (stress-controlled, from zero stress).
+    consolidation : {"auto", "stress", "frictionless"}
+        "stress": the isotropic stage starts from the sample as built; "frictionless": the
+        sample is first compressed without friction to ``pressure`` (normal springs ``kn``
+        balanced, as DEM prepares samples), then the isotropic stage runs with the laws;
+        "auto": "frictionless" for grains of unequal radii in a cubic (square) cell (random
+        packings), "stress" otherwise.
     rtol : float
         Newton tolerance on the residual forces, moments and stresses, relative to the largest
         contact force (its moment, the virial).
@@ -227,10 +251,17 @@ def triaxial(assembly: Assembly, kind: str, *, pressure: float, axial_strain: fl
     check_scalar("failure_slope", failure_slope, lo=0.0, lo_open=True, hi=1.0)
     if max_time is not None:
         check_scalar("max_time", max_time, lo=0.0, lo_open=True)
+    if consolidation not in ("auto", "stress", "frictionless"):
+        raise FrictionRulesError(f"consolidation = {consolidation!r} violates: one of auto, "
+                                 "stress, frictionless")
+    if consolidation == "auto":
+        h = assembly.cell
+        cubic = np.allclose(h, h[0, 0] * np.eye(assembly.dim))
+        consolidation = "frictionless" if cubic and np.ptp(assembly.radii) > 0 else "stress"
     cons, shear = _controls(kind, assembly.dim, p, a, int(increments), int(consolidation_increments))
     options = dict(kind=kind, pressure=p, axial_strain=a, increments=int(increments),
                    consolidation_increments=int(consolidation_increments), rtol=rtol,
-                   max_cuts=int(max_cuts), failure_slope=failure_slope)
+                   max_cuts=int(max_cuts), failure_slope=failure_slope, consolidation=consolidation)
     return _run_test(assembly, kind, cons, shear, options, progress, max_time, run_file)
 
 
@@ -241,7 +272,11 @@ def _run_test(assembly, kind, cons, shear, options, progress, max_time, run_file
         from ._runfile import RunFile
         writer = RunFile.open(run_file, assembly, options)
         done = writer.rows()
-    state0 = initial_state(assembly)
+    if options["consolidation"] == "frictionless":
+        state0 = prepared_state(assembly, options["pressure"])
+        cons = cons[-1:]  # at the pressure already: one increment brings in the laws
+    else:
+        state0 = initial_state(assembly)
     _check_laws(assembly, state0)
     if done:
         rows = done

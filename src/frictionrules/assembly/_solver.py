@@ -164,7 +164,7 @@ def _elastic_tangents(contacts: ContactSet, status: np.ndarray) -> np.ndarray:
     return out
 
 
-def _update_all(contacts: ContactSet, u: np.ndarray, predictor: bool):
+def _update_all(contacts: ContactSet, u: np.ndarray, predictor: bool, gap: float = 0.0):
     m = contacts.size
     force, tangent = np.zeros((m, 3)), np.zeros((m, 3, 3))
     status = np.zeros(m, dtype=np.int64)
@@ -175,9 +175,9 @@ def _update_all(contacts: ContactSet, u: np.ndarray, predictor: bool):
         force[idx], status[idx] = res.force, res.status
         tan = res.tangent
         if predictor:
-            # Start of the increment: contacts closed (or just touching) at its start stiffen
-            # elastically, so that a sample at zero force has a stiffness to start from.
-            touching = contacts.states[g].elastic[:, 2] <= 0
+            # Start of the increment: contacts closed (or touching within the tolerance) at its
+            # start stiffen elastically, so that a sample at zero force has a stiffness.
+            touching = contacts.states[g].elastic[:, 2] <= gap
             tan = np.where(touching[:, None, None], model.elastic_tangent, tan)
         tangent[idx] = tan
         states.append(res.state)
@@ -186,7 +186,7 @@ def _update_all(contacts: ContactSet, u: np.ndarray, predictor: bool):
 
 def solve_increment(positions, radii, cell, contacts: ContactSet, free: np.ndarray,
                     prescribed: np.ndarray, target: np.ndarray, *, rtol: float = 1e-10,
-                    max_iterations: int = 40) -> Outcome:
+                    max_iterations: int = 40, gap: float = 0.0, max_move: float = np.inf) -> Outcome:
     """Solve one increment by Newton's method.
 
     Parameters
@@ -199,6 +199,12 @@ def solve_increment(positions, radii, cell, contacts: ContactSet, free: np.ndarr
         ``ΔE_k`` of the strain-controlled components (tension positive; ignored where free).
     target : (ncomp,)
         Compression-positive stress ``σ*_ab`` at the end of the increment where free.
+    gap : float
+        Contacts open by at most this gap at the start stiffen elastically in the first
+        Newton direction (the contact tolerance of the assembly).
+    max_move : float
+        Largest change of a contact displacement in one Newton iteration (half the skin of the
+        contact set).
     """
     n, d = positions.shape
     kin = kinematics(positions, radii, cell, contacts)
@@ -228,7 +234,7 @@ def solve_increment(positions, radii, cell, contacts: ContactSet, free: np.ndarr
 
     def evaluate(x, predictor=False):
         u = (u0 + B_free @ x).reshape(m, 3)
-        force, tangent, status, states = _update_all(contacts, u, predictor)
+        force, tangent, status, states = _update_all(contacts, u, predictor, gap)
         R = B_free.T @ (force * _SIGN).ravel() + f_ext
         fmax = float(np.abs(force).max()) if m else 0.0
         virial = float(np.sum(np.abs(force).max(axis=1) * lnorm)) if m else 0.0
@@ -252,6 +258,11 @@ def solve_increment(positions, radii, cell, contacts: ContactSet, free: np.ndarr
             dx = _newton_direction(B_free, _SIGN[None, :, None] * tan, ev.R, dense)
             if dx is None:
                 continue
+            # trust region: no contact moves by more than half the skin in one iteration (a
+            # mechanism of the linearized problem would throw grains through each other)
+            du_max = float(np.abs(B_free @ dx).max()) if m else 0.0
+            if du_max > max_move:
+                dx *= max_move / du_max
             alpha = 1.0
             for _ in range(12):
                 trial = evaluate(x + alpha * dx)
