@@ -5,8 +5,9 @@ Public: :class:`Assembly`, :func:`triaxial` and the records :class:`TriaxialResu
 :class:`ContactSnapshot`, :class:`SampleState` (re-exported by :mod:`frictionrules`).
 """
 
+from ._config import read_config
 from ._geometry import Assembly
 from ._loading import triaxial
 from ._results import ContactSnapshot, SampleState, TriaxialResult
 
-__all__ = ["Assembly", "triaxial", "TriaxialResult", "ContactSnapshot", "SampleState"]
+__all__ = ["Assembly", "triaxial", "TriaxialResult", "ContactSnapshot", "SampleState", "read_config"]
