@@ -49,7 +49,7 @@ from .configuration import (
     SphereOnLayer,
 )
 # grain assemblies: many grains, a law at every contact (§5, (4.12))
-from .assembly import Assembly, ContactSnapshot, SampleState, TriaxialResult, triaxial
+from .assembly import Assembly, ContactSnapshot, SampleState, TriaxialResult, load_cell, triaxial
 
 __version__ = "0.1.0"
 
@@ -123,6 +123,7 @@ __all__ = [
     # grain assemblies
     "Assembly",
     "triaxial",
+    "load_cell",
     "TriaxialResult",
     "ContactSnapshot",
     "SampleState",

@@ -7,7 +7,7 @@ Public: :class:`Assembly`, :func:`triaxial` and the records :class:`TriaxialResu
 
 from ._config import read_config
 from ._geometry import Assembly
-from ._loading import triaxial
+from ._loading import load_cell, triaxial
 from ._results import ContactSnapshot, SampleState, TriaxialResult
 
-__all__ = ["Assembly", "triaxial", "TriaxialResult", "ContactSnapshot", "SampleState", "read_config"]
+__all__ = ["Assembly", "triaxial", "load_cell", "TriaxialResult", "ContactSnapshot", "SampleState", "read_config"]

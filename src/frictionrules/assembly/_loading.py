@@ -22,7 +22,7 @@ from ._geometry import Assembly
 from ._results import ContactSnapshot, SampleState, TriaxialResult
 from ._solver import components, move, solve_increment, stress_of
 
-__all__ = ["Control", "triaxial", "initial_state", "run", "KINDS"]
+__all__ = ["Control", "triaxial", "load_cell", "initial_state", "run", "KINDS"]
 
 #: The triaxial tests of :func:`triaxial`.
 KINDS = ("axisymmetric", "plane_strain", "biaxial")
@@ -340,3 +340,68 @@ def collect(assembly, kind, rows, ended, limit, failure_slope) -> TriaxialResult
     bw = np.array([r[1][1] for r in rows])
     return TriaxialResult(kind, stress, strain, np.trace(strain, axis1=1, axis2=2), ax, ratio, peak,
                           angle, coord, snaps, ok, cw, bw, failed, bool(limit), ended, rows[-1][0])
+
+
+_NAMES = {2: ("xx", "yy", "xy"), 3: ("xx", "yy", "zz", "yz", "xz", "xy")}
+
+
+def load_cell(assembly: Assembly, control: dict, *, pressure: float, increments: int = 100,
+              consolidation_increments: int = 1, rtol: float = 1e-10, max_cuts: int = 8,
+              failure_slope: float = 1e-2, progress=None, max_time: float | None = None,
+              run_file=None, consolidation: str = "auto") -> TriaxialResult:
+    """General mixed control of the cell: consolidate to ``pressure``, then drive any
+    components of stress or strain.
+
+    Parameters
+    ----------
+    control : dict
+        Component name (``"xx", "yy", "zz", "yz", "xz", "xy"``; 2-D: ``"xx", "yy", "xy"``) →
+        ``("stress", value)`` (the compression-positive stress reached linearly at the last
+        increment) or ``("strain", value)`` (the compression-positive strain added in equal
+        increments). Components not given hold their stress: ``pressure`` on the diagonal, 0
+        off it. At least one component must be driven (a strain or a changing stress).
+
+    The other parameters are those of :func:`triaxial`; the result's ``kind`` is "mixed" and its
+    ``axial_strain`` the zz (2-D: yy) component.
+    """
+    d = assembly.dim
+    names = _NAMES[d]
+    p = check_scalar("pressure", pressure, lo=0.0, lo_open=True)
+    if not isinstance(control, dict):
+        raise FrictionRulesError(f"control = {control!r} violates: a dict component -> (kind, value)")
+    comps = components(d)
+    free = np.ones(len(comps), dtype=bool)
+    target = np.array([p if a == b else 0.0 for a, b in comps])
+    total = np.zeros(len(comps))
+    for name, spec in control.items():
+        if name not in names:
+            raise FrictionRulesError(f"control key {name!r} violates: one of {', '.join(names)}")
+        if not (isinstance(spec, (tuple, list)) and len(spec) == 2 and spec[0] in ("stress", "strain")):
+            raise FrictionRulesError(f"control[{name!r}] = {spec!r} violates: ('stress', value) or "
+                                     "('strain', value)")
+        k = names.index(name)
+        value = check_scalar(f"control[{name!r}]", spec[1])
+        if spec[0] == "stress":
+            target[k] = value
+        else:
+            free[k] = False
+            total[k] = value
+    start = np.array([p if a == b else 0.0 for a, b in comps])
+    if not np.any(total[~free]) and np.allclose(target[free], start[free]):
+        raise FrictionRulesError(f"control = {control!r} violates: at least one driven component "
+                                 "(a nonzero strain or a stress other than the consolidation's)")
+    if not isinstance(increments, (int, np.integer)) or increments < 1:
+        raise FrictionRulesError(f"increments = {increments!r} violates: an integer >= 1")
+    cons, _ = _controls("axisymmetric" if d == 3 else "biaxial", d, p, 1.0, 1,
+                        int(consolidation_increments))
+    shear = [Control(tuple(free), tuple(np.where(free, start + (target - start) * (k + 1) / increments, 0.0)),
+                     tuple(np.where(free, 0.0, total / increments))) for k in range(int(increments))]
+    if consolidation == "auto":
+        h = assembly.cell
+        cubic = np.allclose(h, h[0, 0] * np.eye(d))
+        consolidation = "frictionless" if cubic and np.ptp(assembly.radii) > 0 else "stress"
+    options = dict(kind="mixed", control={k: list(v) for k, v in control.items()}, pressure=p,
+                   increments=int(increments), consolidation_increments=int(consolidation_increments),
+                   rtol=rtol, max_cuts=int(max_cuts), failure_slope=failure_slope,
+                   consolidation=consolidation)
+    return _run_test(assembly, "mixed", cons, shear, options, progress, max_time, run_file)
