@@ -36,6 +36,8 @@ def plot_response(result, axes=None, label=None):
     b.plot(x, 100 * result.volumetric_strain[ok], color=line.get_color(), label=label)
     b.set_xlabel("axial strain (%)")
     b.set_ylabel("volumetric strain (%, compression > 0)")
+    for ax in axes:
+        ax.locator_params(axis="x", nbins=5)
     return axes
 
 
