@@ -40,15 +40,6 @@ def embed(v: np.ndarray) -> np.ndarray:
     return np.concatenate((v, np.zeros(v.shape[:-1] + (1,))), axis=-1)
 
 
-def embed_cell(h: np.ndarray) -> np.ndarray:
-    """A 2x2 cell as 3x3 (unit z); a 3x3 cell unchanged."""
-    if h.shape == (3, 3):
-        return h
-    out = np.eye(3)
-    out[:2, :2] = h
-    return out
-
-
 @dataclass(frozen=True)
 class Found:
     """Pairs of grains within the contact distance: ``i``, ``j``, shifts ``K`` (m, d) and gaps."""

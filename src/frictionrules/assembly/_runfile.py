@@ -16,7 +16,6 @@ Layout (``docs/assembly.md``, "Run files"):
 from __future__ import annotations
 
 import json
-from pathlib import Path
 
 import numpy as np
 
@@ -131,10 +130,3 @@ class RunFile:
         w = np.asarray(g["work"])
         return state, (float(w[0]), float(w[1])), bool(g.attrs["converged"])
 
-
-def read_run(path, assembly):
-    """Rows of a run file (for inspection) without changing it."""
-    from .._optional import require
-    h5py = require("h5py", purpose="assembly run files")
-    with h5py.File(Path(path), "r") as h5:
-        return RunFile(h5, assembly).rows()

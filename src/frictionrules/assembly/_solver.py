@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._contacts import ContactSet, branches, embed, embed_cell
+from ._contacts import ContactSet, branches, embed
 
 __all__ = ["Kinematics", "Outcome", "solve_increment", "components", "stress_of"]
 
