@@ -185,3 +185,32 @@ def test_fclib_example_solves_capsules():
     errors = load("multicontact_fclib").main(FCLIB / "Capsules-i125-1213.hdf5")
     assert min(errors.values()) <= 1e-8
     assert np.isfinite(list(errors.values())).all()
+
+
+# ---- grain assemblies ----------------------------------------------------------------------
+def test_example_assembly_thornton_fcc(tmp_path):
+    out = load("assembly_thornton_fcc").main(out_dir=tmp_path)
+    for (mu, dilatant), row in out.items():
+        if mu < 1:
+            assert row["peak"] == pytest.approx(row["exact"], rel=1e-3)
+    assert out[(0.3, True)]["dilatancy"] == pytest.approx(-(1 + 0.9) / 0.7, rel=2e-3)
+    assert out[(1.2, False)]["peak"] == np.inf
+    assert (tmp_path / "assembly_thornton_fcc.png").stat().st_size > 1000
+
+
+def test_example_assembly_rules_plane_strain(tmp_path):
+    out = load("assembly_rules_plane_strain").main(out_dir=tmp_path)
+    assert out["non-associated"] == pytest.approx(2 * (6**0.5 + 0.6) / (6**0.5 - 1.2), rel=1e-3)
+    assert out["associated"] > 1.01 * out["non-associated"]
+
+
+def test_example_assembly_hex2d_rowe(tmp_path):
+    out = load("assembly_hex2d_rowe").main(out_dir=tmp_path)
+    assert out["D"] == pytest.approx(3.0, rel=1e-3)
+    assert (tmp_path / "assembly_hex2d_rowe.png").stat().st_size > 1000
+
+
+def test_example_assembly_orthotropic_fcc():
+    out = load("assembly_orthotropic_fcc").main()
+    for peak in out.values():
+        assert peak == pytest.approx(1.2 / 0.8 + 1.4 / 0.6, rel=1e-3)

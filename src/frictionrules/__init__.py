@@ -50,6 +50,8 @@ from .configuration import (
     PeakForcePolar,
     SphereOnLayer,
 )
+# grain assemblies: many grains, a law at every contact (§5, (4.12))
+from .assembly import Assembly, ContactSnapshot, SampleState, TriaxialResult, load_cell, triaxial
 
 __version__ = "0.1.0"
 
@@ -123,6 +125,13 @@ __all__ = [
     "LimitPoint",
     "ForceControlResult",
     "PeakForcePolar",
+    # grain assemblies
+    "Assembly",
+    "triaxial",
+    "load_cell",
+    "TriaxialResult",
+    "ContactSnapshot",
+    "SampleState",
 ]
 
 _SYMBOLS = ("T1", "T2", "N")

@@ -22,7 +22,7 @@ import sys
 from ..errors import FrictionRulesError
 
 #: Subcommand modules of this package, in the order ``--help`` lists them.
-SUBCOMMANDS = ("paper", "law", "solve", "configuration", "drive", "asperity", "export")
+SUBCOMMANDS = ("paper", "law", "solve", "configuration", "drive", "asperity", "export", "assembly")
 
 #: Arguments that are values, not options, although they start with "-": numbers such as
 #: ``-0.5``, ``-1e-6``, ``-inf`` and lists that start with one, ``-0.5,0,0.866;0.5,0,0.866``.

@@ -230,9 +230,23 @@ def _put(loc: LocalDerivatives, idx, new: LocalDerivatives) -> LocalDerivatives:
 
 
 def tangent_at(surface, sigma, q, dlam, Dv) -> np.ndarray:
-    """``d sigma / d sigma_trial`` at a converged return ``(sigma, q, Δλ)``, shape (n, 3, 3)."""
+    """``d sigma / d sigma_trial`` at a converged return ``(sigma, q, Δλ)``, shape (n, 3, 3).
+
+    At a vertex of f where the return lands on ``T = 0`` with a vanishing gradient (the
+    frictionless cone ``|T| <= 0``) the system is singular: there the tangential force is pinned
+    at zero and the normal force elastic, ``diag(0, 0, 1)``.
+    """
     J = _jacobian(surface.evaluate(sigma, q), dlam, Dv)
-    return np.linalg.inv(J)[:, :3, :3]
+    out = np.zeros((len(J), 3, 3))
+    finite = np.isfinite(J).all(axis=(1, 2))
+    Jf = np.where(finite[:, None, None], J, 0.0)
+    # Hadamard's bound |det J| <= Π |rows|: relative to it the determinant measures singularity
+    bound = np.prod(np.linalg.norm(Jf, axis=2), axis=1)
+    regular = finite & (np.abs(np.linalg.det(Jf)) > 1e-12 * bound)
+    if regular.any():
+        out[regular] = np.linalg.inv(J[regular])[:, :3, :3]
+    out[~regular] = np.diag([0.0, 0.0, 1.0])
+    return out
 
 
 def rate_step(surface, sigma, q, dsigma_e, Dv):

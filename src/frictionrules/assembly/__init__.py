@@ -1,0 +1,13 @@
+"""Grain assemblies: rigid grains in a periodic cell with a library law at every contact,
+loaded quasi-statically (the paper's programme of §5, the limit condition (4.12)).
+
+Public: :class:`Assembly`, :func:`triaxial` and the records :class:`TriaxialResult`,
+:class:`ContactSnapshot`, :class:`SampleState` (re-exported by :mod:`frictionrules`).
+"""
+
+from ._config import read_config
+from ._geometry import Assembly
+from ._loading import load_cell, triaxial
+from ._results import ContactSnapshot, SampleState, TriaxialResult
+
+__all__ = ["Assembly", "triaxial", "load_cell", "TriaxialResult", "ContactSnapshot", "SampleState", "read_config"]
