@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import frictionrules as fr
-from _export_harness import CKernel, Fric, Uinter, Vfric, compile_c, compile_fortran, fpe_traps
+from _export_harness import CKernel, Fric, compile_c, compile_fortran, fpe_traps
 
 KT, KN = 100.0, 200.0
 NONASSOC = fr.UserLaw("sqrt((T1/mu_x)**2 + (T2/mu_y)**2) - N", potential="sqrt(T1**2 + T2**2)",

@@ -10,9 +10,8 @@ the law's inverse relation (1.8) times the normal force, bounded by the stick fo
 import numpy as np
 import pytest
 
-import frictionrules as fr
 from _export_harness import Uinter, Vfric, compile_fortran, fpe_traps
-from test_export_compiled import KN, KT, LAWS, PATHS, STEPS, _built, _close, _model, _path
+from test_export_compiled import KN, KT, PATHS, STEPS, _built, _close, _model, _path
 
 #: STRESS index -> (T1, T2, N) index; RDISP index -> (δt1, δt2, δn) index and sign.
 _S = (2, 0, 1)

@@ -37,6 +37,19 @@ FIGURE_SUFFIXES = (".png", ".svg", ".pdf")
 
 
 # ---- paths ------------------------------------------------------------------------------------
+def writable_ancestor(path: Path) -> Path | None:
+    """The nearest existing ancestor of ``path`` (``path`` itself if it exists) when it is a
+    folder this process may write in, else None."""
+    folder = _existing(path)
+    return folder if folder.is_dir() and os.access(folder, os.W_OK | os.X_OK) else None
+
+
+def _existing(path: Path) -> Path:
+    while not path.exists() and path != path.parent:
+        path = path.parent
+    return path
+
+
 def check_output(path, allowed_suffixes: Sequence[str], *, name: str = "--out") -> Path:
     """Check an output path before any work is done; return it as a :class:`Path`.
 
@@ -55,12 +68,9 @@ def check_output(path, allowed_suffixes: Sequence[str], *, name: str = "--out") 
                                  f"one of {', '.join(allowed)}")
     if path.is_dir():
         raise FrictionRulesError(f"{name} = {str(path)!r} is a folder; constraint: a file name")
-    folder = path.parent
-    while not folder.exists() and folder != folder.parent:
-        folder = folder.parent
-    if not folder.is_dir() or not os.access(folder, os.W_OK | os.X_OK):
-        raise FrictionRulesError(f"{name} = {str(path)!r}: {str(folder)!r} is not a writable "
-                                 "folder; constraint: a path in a folder you may write in")
+    if writable_ancestor(path.parent) is None:
+        raise FrictionRulesError(f"{name} = {str(path)!r}: {str(_existing(path.parent))!r} is not "
+                                 "a writable folder; constraint: a path in a folder you may write in")
     return path
 
 

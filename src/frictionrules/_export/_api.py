@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
+from .._output import writable_ancestor
 from ..errors import FrictionRulesError
 
 __all__ = ["ExportResult", "export"]
@@ -115,10 +116,7 @@ def _folder(out_dir) -> Path:
     path = Path(text)
     if path.exists() and not path.is_dir():
         raise FrictionRulesError(f"out_dir = {text!r} violates: must be a folder")
-    folder = path
-    while not folder.exists() and folder != folder.parent:
-        folder = folder.parent
-    if not folder.is_dir() or not os.access(folder, os.W_OK | os.X_OK):
-        raise FrictionRulesError(f"out_dir = {text!r}: {str(folder)!r} is not a writable folder; "
+    if writable_ancestor(path) is None:
+        raise FrictionRulesError(f"out_dir = {text!r} is not in a folder you may write in; "
                                  "constraint: a folder you may write in")
     return path

@@ -50,7 +50,7 @@ def c_sources(spec) -> dict[str, str]:
          "   compression; tangent = d(T1, T2, N)/d(dt1, dt2, dn) row-major, or NULL. */",
          f"int {name}_update(const double *params, const double *state_in, "
          "const double *increment,",
-         f"    double *state_out, double *force, double *tangent);", "",
+         "    double *state_out, double *force, double *tangent);", "",
          "/* The state of a virgin contact. */",
          f"void {name}_initial_state(double *state);", "", f"#endif /* {up}_H */", ""]
     initial = "\n    ".join(f"state[{6 + k}] = {v!r};" for k, v in enumerate(spec.initial)) \

@@ -63,7 +63,7 @@ def snippet(target: str, spec, written) -> tuple[str, str]:
             f"    const double params[{up}_NPARAMS] = {{{params}}};",
             f"    double state[{up}_NSTATE], next[{up}_NSTATE], force[3], tangent[9];",
             "    const double increment[3] = {0.0, 0.0, -0.01};",
-            f"    int status;", f"    {name}_initial_state(state);",
+            "    int status;", f"    {name}_initial_state(state);",
             f"    status = {name}_update(params, state, increment, next, force, tangent);",
             '    printf("status %d, T = (%g, %g), N = %g\\n", status, force[0], force[1], '
             "force[2]);",

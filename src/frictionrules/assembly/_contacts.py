@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..contact import ContactModel, ContactState
+from ..contact import ContactState
 from ..errors import FrictionRulesError
 from ..laws import LawState
 

@@ -209,7 +209,7 @@ def frictionless_compression(positions, radii, cell, kn: float, pressure: float,
         s = 1 - step
         y, p = relax(x0 * s, h0 * s)
         if p > pressure:
-            lo, x_lo = s, y
+            lo = s
             break
         hi, x_hi = s, y
         step *= 2
@@ -220,7 +220,7 @@ def frictionless_compression(positions, radii, cell, kn: float, pressure: float,
         s = 0.5 * (lo + hi)
         y, p = relax(x_hi * (s / hi), h0 * s)
         if p > pressure:
-            lo, x_lo = s, y
+            lo = s
         else:
             hi, x_hi = s, y
         if abs(p - pressure) <= 1e-6 * pressure or hi - lo < 1e-15:
