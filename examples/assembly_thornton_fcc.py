@@ -44,7 +44,8 @@ def main(out_dir=None) -> dict:
         from frictionrules.plot.assembly import plot_response
         fig, axes = plt.subplots(1, 2, figsize=(10, 3.8))
         for label, r in runs[:-1]:
-            plot_response(r, axes=axes, label=label)
+            # dashed: the dilatant run has the same strength and would hide its twin
+            plot_response(r, axes=axes, label=label, linestyle="--" if "dilatant" in label else "-")
         axes[1].legend(fontsize=7)
         fig.tight_layout()
         path = Path(out_dir) / "assembly_thornton_fcc.png"

@@ -17,7 +17,7 @@ def _axes(ax, polar=False, size=(5.0, 4.0)):
     return ax
 
 
-def plot_response(result, axes=None, label=None):
+def plot_response(result, axes=None, label=None, linestyle="-"):
     """Stress ratio σ1/σ3 (left) and volumetric strain (right, compression positive) against
     the axial strain of a :class:`TriaxialResult`; the peak is marked. Returns the two Axes."""
     if axes is None:
@@ -26,14 +26,15 @@ def plot_response(result, axes=None, label=None):
     a, b = axes
     ok = result.converged
     x = 100 * result.axial_strain[ok]
-    (line,) = a.plot(x, result.stress_ratio[ok], label=label)
+    (line,) = a.plot(x, result.stress_ratio[ok], label=label, linestyle=linestyle)
     if result.failed:
         k = int(np.argmax(np.where(ok, result.stress_ratio, -np.inf)))
         a.plot(100 * result.axial_strain[k], result.stress_ratio[k], "o", color=line.get_color(),
                ms=4)
     a.set_xlabel("axial strain (%)")
     a.set_ylabel(r"$\sigma_1/\sigma_3$")
-    b.plot(x, 100 * result.volumetric_strain[ok], color=line.get_color(), label=label)
+    b.plot(x, 100 * result.volumetric_strain[ok], color=line.get_color(), label=label,
+           linestyle=linestyle)
     b.set_xlabel("axial strain (%)")
     b.set_ylabel("volumetric strain (%, compression > 0)")
     for ax in axes:
@@ -113,5 +114,9 @@ def friction_rose(result, increment: int = -1, ax=None, plane: str = "xz", bins:
     counts, _ = np.histogram(ang, bins=bins, range=(0, 2 * np.pi))
     mean = np.divide(sums, counts, out=np.zeros_like(sums), where=counts > 0)
     ax.bar(edges[:-1], mean, width=edges[1] - edges[0], align="edge", color="C3", alpha=0.7)
+    top = float(mean.max()) if mean.max() > 0 else 1.0
+    ax.set_rticks([0.5 * top, top])  # two labelled rings: more crowd the centre
+    ax.set_rlabel_position(22.5)
+    ax.tick_params(axis="y", labelsize=7)
     ax.set_title(f"mobilized friction |T|/N ({plane})", fontsize=9)
     return ax
