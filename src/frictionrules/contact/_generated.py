@@ -90,14 +90,11 @@ def module_source(form, law_name: str) -> str:
 LEVELS = ("f", "first", "full")
 
 
+@functools.lru_cache(maxsize=1024)
 def parameter_values(law) -> np.ndarray:
     """The law's parameter values followed by the values of the subexpressions of the three
-    programs that depend on the parameters only (see :func:`module_source`), computed once."""
-    return _parameter_values(law)
-
-
-@functools.lru_cache(maxsize=1024)
-def _parameter_values(law) -> np.ndarray:
+    programs that depend on the parameters only (see :func:`module_source`), computed once per
+    law (read-only)."""
     import sympy
 
     from ..codegen import local_program, parameter_temps
