@@ -11,8 +11,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from frictionrules import (ContactModel, Coulomb, EllipsoidCap, EllipticOrthotropic, Huber,
-                           SlipHardening, TransformedCoulomb, UserLaw, WedgeAsperity)
+from test_contact import LAWS as BUILT_IN
+
+from frictionrules import (ContactModel, Coulomb, EllipticOrthotropic, Huber, SlipHardening,
+                           TransformedCoulomb, UserLaw)
 from frictionrules.contact._generated import generated_kernel, module_source
 from frictionrules.contact.state import PLASTIC
 from frictionrules.laws import HardenedLaw
@@ -20,15 +22,9 @@ from frictionrules.laws._symbolic import form_of
 
 KN, KT = 100.0, 80.0
 
+#: The built-in laws of tests/test_contact.py and two with slip hardening.
 LAWS = {
-    "coulomb": Coulomb(0.4),
-    "coulomb_dilatant": Coulomb(0.4, dilatant=True),
-    "elliptic": EllipticOrthotropic(0.3, 0.6, angle=0.4),
-    "huber": Huber(0.5, 0.3, angle=-0.3),
-    "transformed": TransformedCoulomb(0.5, 0.3, angle=0.2),
-    "wedge": WedgeAsperity(0.3, 0.5),
-    "cap": EllipsoidCap(0.6),
-    "cap_nonassociated": EllipsoidCap(0.6, normal_ratio=0.3),
+    **BUILT_IN,
     "coulomb_hardening": HardenedLaw(Coulomb(0.4), SlipHardening(0.5, 0.02)),
     "elliptic_softening": HardenedLaw(EllipticOrthotropic(0.3, 0.6, angle=0.4),
                                       SlipHardening(-0.3, 0.05)),

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ._optional import require
-from ._output import provenance, write_figure, write_text
+from ._output import FIGURE_SUFFIXES, provenance, write_figure, write_text
 from .contact.summary import FIG10
 
 #: What the figures and key numbers import beyond NumPy: the packages of the ``paper`` extra.
@@ -207,7 +207,7 @@ def write_index(out_dir) -> Path:
         rows = []
         for f in FIGURES:
             files = sorted(p.name for p in (out_dir / f.folder).glob(f"{f.stem}.*")
-                           if p.suffix in (".png", ".svg", ".pdf"))
+                           if p.suffix in FIGURE_SUFFIXES)
             if f.folder == folder and files:
                 links = ", ".join(f"[{p.rsplit('.', 1)[-1]}]({folder}/{p})" for p in files)
                 caption = f.caption.replace("|", "\\|")          # a pipe would end the cell

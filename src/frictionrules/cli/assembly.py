@@ -6,8 +6,6 @@ from __future__ import annotations
 
 from ._common import add_quiet, finite_float
 
-_FIGURES = (".png", ".svg", ".pdf")
-
 
 def register(sub) -> None:
     p = sub.add_parser(
@@ -29,12 +27,12 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from .._output import check_output
+    from .._output import FIGURE_SUFFIXES, check_output
     from ..assembly import read_config, triaxial
     from . import _common
 
     out = check_output(args.out, (".h5", ".hdf5"))
-    figure = check_output(args.figure, _FIGURES, name="--figure") if args.figure else None
+    figure = check_output(args.figure, FIGURE_SUFFIXES, name="--figure") if args.figure else None
     assembly, loading = read_config(args.config)
     with _common.progress(args, "assembly", loading.get("increments", 100), unit="increments") as bar:
         result = triaxial(assembly, run_file=out, max_time=args.max_time, progress=bar, **loading)

@@ -12,7 +12,6 @@ _KEYS = {"grain": str, "packing": str, "diameter": float, "mu": float, "Q": floa
 _DEFAULTS = {"grain": "cylinder", "packing": "single", "diameter": 1.0, "mu": 0.3, "Q": 1.0,
              "method": "exact", "scheme": "euler", "direction": 0.0, "steps": 201, "deg": False}
 _TABLES = (".csv", ".json", ".h5", ".hdf5")
-_FIGURES = (".png", ".svg", ".pdf")
 #: units of the path table's columns (angles added by run: rad or deg)
 _PATH_UNITS = {"distance": "length", "ux": "length", "uy": "length", "uz": "length",
                "Tx": "force", "Ty": "force", "T": "force", "N1": "force", "N2": "force",
@@ -165,11 +164,11 @@ def polar_sweep(model, directions, progress=None, Q: float = 1.0) -> dict:
 def run(args) -> int:
     import numpy as np
 
-    from .._output import check_output, write_table
+    from .._output import FIGURE_SUFFIXES, check_output, write_table
     from . import _common
 
     out = check_output(args.out, _TABLES, name="--out") if args.out else None
-    figure = check_output(args.figure, _FIGURES, name="--figure") if args.figure else None
+    figure = check_output(args.figure, FIGURE_SUFFIXES, name="--figure") if args.figure else None
     opts = options(args)
     model = build_model(opts)
     scale = np.pi / 180.0 if opts["deg"] else 1.0

@@ -5,8 +5,6 @@ from __future__ import annotations
 
 from ._common import add_quiet
 
-_FIGURES = (".png", ".svg", ".pdf")
-
 
 def register(sub) -> None:
     p = sub.add_parser(
@@ -36,7 +34,7 @@ def _has_area_fraction(model) -> bool:
 def run(args) -> int:
     from pathlib import Path
 
-    from .._output import check_output
+    from .._output import FIGURE_SUFFIXES, check_output
     from ..contact.driver import SUFFIXES, drive, read_toml
     from ..errors import FrictionRulesError
     from . import _common
@@ -48,7 +46,7 @@ def run(args) -> int:
     png = None
     if args.plot is not None:
         if args.plot:
-            png = check_output(args.plot, _FIGURES, name="--plot")
+            png = check_output(args.plot, FIGURE_SUFFIXES, name="--plot")
         elif out is not None:
             png = out.with_suffix(".png")
         else:
