@@ -150,3 +150,14 @@ def test_user_law_at_the_apex_is_finite():
     assert np.all(np.isfinite(r.force)) and np.all(np.isfinite(r.tangent))
     np.testing.assert_allclose(r.force[0], [0.0, 0.0, 1.0])
     np.testing.assert_array_equal(r.force[1], 0.0)
+
+
+@pytest.mark.parametrize("nq", [0, 1, 2, 3])
+def test_kernel_layout_is_the_codegen_layout(nq):
+    """The compiled kernel's offsets are those of the one layout the code generator writes."""
+    from frictionrules.codegen import local_layout
+    from frictionrules.contact._return_kernel import _layout
+    layout = local_layout(nq)
+    names = ("df", "dfq", "dg", "hgg", "hgq", "h", "dhs", "dhq")
+    size = sum(int(np.prod(shape)) for _, shape in layout.values())
+    assert _layout.py_func(nq) == tuple(layout[k][0] for k in names) + (size,)

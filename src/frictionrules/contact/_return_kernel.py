@@ -36,7 +36,6 @@ from .state import ELASTIC as _ELASTIC
 from .state import OPEN as _OPEN
 from .state import PLASTIC as _PLASTIC
 
-_ARR = types.float64[::1]
 _PTR = types.CPointer(types.float64)
 #: C signature of a law's local function ``(T1, T2, N, *q, *p, *w) -> 0`` (a Numba ``cfunc``).
 LOCAL_SIGNATURE = types.int64(types.float64, types.float64, types.float64, _PTR, _PTR, _PTR)
@@ -61,7 +60,9 @@ def _call_local(typingctx, address, x0, x1, x2, q, p, w):
 
 @njit(inline="always")
 def _layout(nq):
-    """Offsets of df, dfq, dg, hgg, hgq, h, dhs, dhq in the flat layout, and its size."""
+    """Offsets of df, dfq, dg, hgg, hgq, h, dhs, dhq in the flat layout, and its size: the
+    layout of :func:`frictionrules.codegen.local_layout`, as compiled code needs it (a test
+    checks that the two agree)."""
     return (1, 4, 4 + nq, 7 + nq, 16 + nq, 16 + 4 * nq, 16 + 5 * nq, 16 + 8 * nq,
             16 + 8 * nq + nq * nq)
 
