@@ -22,10 +22,12 @@ from ._geometry import Assembly
 from ._results import ContactSnapshot, SampleState, TriaxialResult
 from ._solver import components, move, solve_increment, stress_of
 
-__all__ = ["Control", "triaxial", "load_cell", "initial_state", "run", "KINDS"]
+__all__ = ["Control", "triaxial", "load_cell", "initial_state", "run", "KINDS", "METHODS"]
 
 #: The triaxial tests of :func:`triaxial`.
 KINDS = ("axisymmetric", "plane_strain", "biaxial")
+#: The methods of :func:`triaxial` and :func:`load_cell`.
+METHODS = ("implicit", "dem")
 
 
 @dataclass(frozen=True)
@@ -180,6 +182,17 @@ def _controls(kind: str, d: int, pressure: float, axial_strain: float, increment
     return cons, shear
 
 
+def check_method(method: str) -> None:
+    if method not in METHODS:
+        raise FrictionRulesError(f"method = {method!r} violates: one of {', '.join(METHODS)}")
+
+
+def _check_common(failure_slope, max_time) -> None:
+    check_scalar("failure_slope", failure_slope, lo=0.0, lo_open=True, hi=1.0)
+    if max_time is not None:
+        check_scalar("max_time", max_time, lo=0.0, lo_open=True)
+
+
 def check_kind(kind: str, dim: int) -> None:
     if kind not in KINDS:
         raise FrictionRulesError(f"kind = {kind!r} violates: one of {', '.join(KINDS)}")
@@ -192,8 +205,16 @@ def triaxial(assembly: Assembly, kind: str, *, pressure: float, axial_strain: fl
              increments: int = 100, consolidation_increments: int = 1, rtol: float = 1e-10,
              max_cuts: int = 8, failure_slope: float = 1e-2, progress=None,
              max_time: float | None = None, run_file=None,
-             consolidation: str = "auto") -> TriaxialResult:
+             consolidation: str = "auto", method: str = "implicit",
+             inertial_number: float = 4e-4, damping: float = 0.2, density: float = 1.0,
+             record_every: float = 1e-3, peak_window: float = 2.5e-3) -> TriaxialResult:
     r"""Consolidate the sample to the isotropic ``pressure``, then compress it along the axis.
+
+    Two methods: "implicit" (the default) follows equilibrium increment by increment (Newton's
+    method with the laws' consistent tangents): exact for lattices, elastic moduli and small
+    strains, and stops where a random packing has no neighbouring equilibrium. "dem" integrates
+    the grains' damped dynamics (the compiled dynamic engine, ``docs/assembly.md``, "Dynamic
+    runs") at the strain rate of the inertial number: random packings to large strain.
 
     Parameters
     ----------
@@ -234,6 +255,21 @@ def triaxial(assembly: Assembly, kind: str, *, pressure: float, axial_strain: fl
     run_file : path, optional
         HDF5 run file (``.h5``) written as the run goes; a run whose file exists resumes from
         its last increment (:mod:`frictionrules.assembly` run files).
+    method : {"implicit", "dem"}
+        Quasi-static increments or the dynamic engine (above). "dem" ignores ``increments``,
+        ``consolidation_increments``, ``rtol`` and ``max_cuts``.
+    inertial_number : float
+        "dem": ``I = ε̇ d √(ρ/p)`` of the axial strain rate ``ε̇`` (``d`` the mean diameter);
+        quasi-static below about 1e-3.
+    damping : float
+        "dem": Cundall's non-viscous damping coefficient, in [0, 1).
+    density : float
+        "dem": the grains' density (mass per volume; per area for disks).
+    record_every : float
+        "dem": axial strain between two records (the rows of the result).
+    peak_window : float
+        "dem": half-width (axial strain) of the running mean of σ1/σ3 whose largest value is the
+        peak (the dynamic ratio fluctuates about its quasi-static value); 0 for none.
 
     Returns
     -------
@@ -242,6 +278,14 @@ def triaxial(assembly: Assembly, kind: str, *, pressure: float, axial_strain: fl
     check_kind(kind, assembly.dim)
     p = check_scalar("pressure", pressure, lo=0.0, lo_open=True)
     a = check_scalar("axial_strain", axial_strain, lo=0.0, lo_open=True, hi=0.5)
+    check_method(method)
+    if method == "dem":
+        _check_common(failure_slope, max_time)
+        from ._dem import dem_triaxial
+        return dem_triaxial(assembly, kind, pressure=p, axial_strain=a, failure_slope=failure_slope,
+                            consolidation=consolidation, progress=progress, max_time=max_time,
+                            run_file=run_file, inertial_number=inertial_number, damping=damping,
+                            density=density, record_every=record_every, peak_window=peak_window)
     for name, value, lo in (("increments", increments, 1), ("consolidation_increments",
                                                              consolidation_increments, 1),
                             ("max_cuts", max_cuts, 0)):
@@ -348,7 +392,9 @@ _NAMES = {2: ("xx", "yy", "xy"), 3: ("xx", "yy", "zz", "yz", "xz", "xy")}
 def load_cell(assembly: Assembly, control: dict, *, pressure: float, increments: int = 100,
               consolidation_increments: int = 1, rtol: float = 1e-10, max_cuts: int = 8,
               failure_slope: float = 1e-2, progress=None, max_time: float | None = None,
-              run_file=None, consolidation: str = "auto") -> TriaxialResult:
+              run_file=None, consolidation: str = "auto", method: str = "implicit",
+              inertial_number: float = 4e-4, damping: float = 0.2, density: float = 1.0,
+              record_every: float = 1e-3, peak_window: float = 2.5e-3) -> TriaxialResult:
     """General mixed control of the cell: consolidate to ``pressure``, then drive any
     components of stress or strain.
 
@@ -362,7 +408,9 @@ def load_cell(assembly: Assembly, control: dict, *, pressure: float, increments:
         off it. At least one component must be driven (a strain or a changing stress).
 
     The other parameters are those of :func:`triaxial`; the result's ``kind`` is "mixed" and its
-    ``axial_strain`` the zz (2-D: yy) component.
+    ``axial_strain`` the zz (2-D: yy) component. With ``method="dem"`` the largest driven strain
+    runs at the rate of the inertial number and the others in proportion (a stress-only path
+    at the stress rate of that elastic strain rate), a record every ``record_every`` of it.
     """
     d = assembly.dim
     names = _NAMES[d]
@@ -390,6 +438,15 @@ def load_cell(assembly: Assembly, control: dict, *, pressure: float, increments:
     if not np.any(total[~free]) and np.allclose(target[free], start[free]):
         raise FrictionRulesError(f"control = {control!r} violates: at least one driven component "
                                  "(a nonzero strain or a stress other than the consolidation's)")
+    check_method(method)
+    if method == "dem":
+        _check_common(failure_slope, max_time)
+        from ._dem import dem_load_cell
+        return dem_load_cell(assembly, control, free=free, start=start, end=target, strain=total,
+                             pressure=p, failure_slope=failure_slope, consolidation=consolidation,
+                             progress=progress, max_time=max_time, run_file=run_file,
+                             inertial_number=inertial_number, damping=damping, density=density,
+                             record_every=record_every, peak_window=peak_window)
     if not isinstance(increments, (int, np.integer)) or increments < 1:
         raise FrictionRulesError(f"increments = {increments!r} violates: an integer >= 1")
     cons, _ = _controls("axisymmetric" if d == 3 else "biaxial", d, p, 1.0, 1,

@@ -8,7 +8,7 @@ import numpy as np
 
 from ._contacts import ContactSet
 
-__all__ = ["SampleState", "ContactSnapshot", "TriaxialResult"]
+__all__ = ["SampleState", "ContactSnapshot", "TriaxialResult", "EnergyTerms"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -83,6 +83,45 @@ class ContactSnapshot:
 
 
 @dataclass(frozen=True, eq=False)
+class EnergyTerms:
+    r"""The energy terms of a dynamic run's shearing stage, at its records (work and energy
+    since the stage started; ``docs/assembly.md``, "Energy").
+
+    The boundary work :math:`W = -\int V\sigma:L\,dt` (compression-positive stress, velocity
+    gradient ``L``) goes into the contacts — the elastic energy
+    :math:`\sum_c \tfrac12(T^2/k_t + N^2/k_n)` and the dissipation of the laws' own return
+    mappings — the kinetic energy of the grains' fluctuating motion and the loss of the
+    non-viscous damping: ``W = ΔE_elastic + D + ΔE_kinetic + D_damping``.
+
+    Attributes
+    ----------
+    boundary_work, dissipation, damping_loss : (k,)
+        Since the start of the stage.
+    elastic, kinetic : (k,)
+        At each record.
+    """
+
+    boundary_work: np.ndarray
+    dissipation: np.ndarray
+    damping_loss: np.ndarray
+    elastic: np.ndarray
+    kinetic: np.ndarray
+
+    @property
+    def balance(self) -> np.ndarray:
+        """``W - ΔE_elastic - D - ΔE_kinetic - D_damping`` at each record (0 exactly in
+        continuous time)."""
+        return (self.boundary_work - (self.elastic - self.elastic[0]) - self.dissipation
+                - (self.kinetic - self.kinetic[0]) - self.damping_loss)
+
+    @property
+    def relative_error(self) -> float:
+        """The largest ``|balance|`` over the largest ``|W|`` of the run."""
+        scale = float(np.max(np.abs(self.boundary_work)))
+        return float(np.max(np.abs(self.balance))) / scale if scale > 0 else 0.0
+
+
+@dataclass(frozen=True, eq=False)
 class TriaxialResult:
     r"""The history of a loading test, one row per increment (row 0: the consolidated sample).
 
@@ -125,6 +164,22 @@ class TriaxialResult:
         How the run ended.
     final : SampleState
         The state after the last converged increment (a run continues from it).
+    method : str
+        "implicit" (quasi-static increments) or "dem" (the dynamic engine: one row per record).
+    time : (k,) or None
+        DEM: the time of each record (the consolidated sample at 0).
+    coordination_without_rattlers : (k,) or None
+        DEM: the mechanical coordination ``(2 N_c - N_1)/(N - N_0 - N_1)`` (``N_0``, ``N_1``
+        grains with none or one force-carrying contact).
+    sliding_fraction : (k,) or None
+        DEM: the fraction of the force-carrying contacts that slide.
+    unbalanced_force : (k,) or None
+        DEM: the mean force on a grain over the mean contact force.
+    energy : EnergyTerms or None
+        DEM: the energy terms of the shearing stage.
+    engine : DemState or None
+        DEM: the engine's state at the end (positions, velocities, spins, cell, contacts'
+        histories).
     """
 
     kind: str
@@ -144,6 +199,13 @@ class TriaxialResult:
     limit_point: bool
     message: str
     final: SampleState
+    method: str = "implicit"
+    time: np.ndarray | None = None
+    coordination_without_rattlers: np.ndarray | None = None
+    sliding_fraction: np.ndarray | None = None
+    unbalanced_force: np.ndarray | None = None
+    energy: EnergyTerms | None = None
+    engine: object = None
 
     def __repr__(self) -> str:
         return (f"TriaxialResult(kind={self.kind!r}, increments={len(self.converged) - 1}, "

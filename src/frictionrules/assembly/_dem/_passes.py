@@ -1,0 +1,313 @@
+r"""The two compiled passes of a time step: contacts (kinematics and the law) and grains (forces,
+damping, leapfrog).
+
+**Contact kinematics** (pair ``i, j``, image ``K``, branch ``l = x_j + H K - x_i``, gap
+``|l| - r_i - r_j``, normal ``n = l/|l|`` from ``i`` to ``j``, frame ``t1`` the unit projection of
+the reference axis on the contact plane, ``t2 = n × t1`` as :func:`..._contacts.frames`):
+
+* a pair out of contact touches (gap ≤ 0): a virgin contact (zero displacements, the law's
+  initial internal variables) takes the normal increment ``Δδn = gap``;
+* a contact opens beyond the skin (gap > s): it is deleted;
+* otherwise its history is carried into the new frame — the tangential elastic and plastic
+  displacements, as vectors of the old contact plane, turned by the rotation taking the old
+  normal to the new one, then about ``n`` by the mean spin ``dt (ω_i + ω_j)·n / 2`` (YADE's
+  ``ScGeom::rotate``, here exact rotations) — and the increment is
+  ``Δδt = dt Q_t (v'_j - v'_i + L l - (r_i ω_i + r_j ω_j) × n)``, ``Δδn = gap - gap_old``
+  (the normal displacement follows the geometry: no drift of N);
+* the law's compiled update (:func:`frictionrules.contact.contact_update`) gives the force
+  ``(T1, T2, N)``. During a frictionless stage the law is ``Coulomb(0)``, whose return takes
+  any tangential trial force to zero: the contact gets no tangential increment (its tangential
+  displacement stays zero), the same result without the return at the degenerate cone's axis; the force of ``j`` on ``i`` is ``g = T1 t1 + T2 t2 - N n`` and the moment on
+  either grain its radius times ``n × g``.
+
+Each chunk of pairs adds to its row of partial sums (named columns ``P_*``): the virial, the
+laws' dissipation, ``Σ|g|`` and the counts of force-carrying and sliding contacts, the largest
+overlap, the affine stiffness of each cell component (the servo's), the first failed pair.
+
+**Grain pass** (YADE's ``NewtonIntegrator``): the forces and moments gathered from the grain's
+pairs; Cundall's non-viscous damping of each component, ``a ← a (1 - λ sgn(F (v + a dt/2)))``;
+leapfrog ``v ← v + a dt``, ``x ← x + dt (v + L x)`` (``v`` the fluctuation velocity, ``L`` the
+cell's velocity gradient of the step), spins alike (no orientation is needed for round grains).
+Each chunk of grains adds ``Σ|F|``, the kinetic energy of the new half step, the work lost to
+damping (``-F_d·(v_old + v_new)/2 dt``) and the largest displacement since the neighbour build
+apart from the affine one.
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+from ...contact import contact_update
+from ...contact.layout import LAW_KN, LAW_KT, RES_DISSIPATION, RES_FORCE, RES_SLIP
+from ._state import OPEN, PLASTIC
+
+__all__ = ["contact_range", "grain_range", "P_VIRIAL", "P_DISSIPATION", "P_FORCE", "P_CLOSED",
+           "P_SLIDING", "P_OVERLAP", "P_STIFF", "P_FAILED", "P_SIZE", "G_FORCE", "G_KINETIC",
+           "G_DAMPING", "G_SHIFT", "G_SIZE", "MAX_DEPTH"]
+
+#: Substeps of a contact update whose Newton iteration fails: up to 2**MAX_DEPTH.
+MAX_DEPTH = 10
+
+#: Columns of a contact chunk's partial sums: the virial Σ f⊗l (9, row-major), the laws'
+#: dissipation, Σ|g| over force-carrying contacts, their count, the sliding ones, the largest
+#: overlap over the smaller radius, the affine stiffness of the 6 cell components, the first
+#: failed pair (-1 none).
+P_VIRIAL, P_DISSIPATION, P_FORCE, P_CLOSED, P_SLIDING, P_OVERLAP, P_STIFF, P_FAILED = 0, 9, 10, 11, 12, 13, 14, 20
+P_SIZE = 21
+#: Columns of a grain chunk's partial sums: Σ|F|, kinetic energy, damping loss, largest
+#: non-affine displacement since the neighbour build.
+G_FORCE, G_KINETIC, G_DAMPING, G_SHIFT = 0, 1, 2, 3
+G_SIZE = 4
+
+
+@njit(inline="always", error_model="numpy")
+def _frame(nx, ny, nz, ax, ay, az):
+    """t1 of :func:`frictionrules.assembly._contacts.frames`: the unit projection of the (unit)
+    reference axis ``a`` on the contact plane, ``|a - (a·n) n|² = 1 - (a·n)²``; where ``a`` is
+    normal to the contact, of the next global axis."""
+    an = ax * nx + ay * ny + az * nz
+    q = 1.0 - an * an
+    if q < 1e-12:
+        bx, by, bz = abs(ax), abs(ay), abs(az)
+        if bx >= by and bx >= bz:
+            ax, ay, az = 0.0, 1.0, 0.0
+        elif by >= bz:
+            ax, ay, az = 0.0, 0.0, 1.0
+        else:
+            ax, ay, az = 1.0, 0.0, 0.0
+        an = ax * nx + ay * ny + az * nz
+        q = 1.0 - an * an
+    inv = 1.0 / math.sqrt(q)
+    return (ax - an * nx) * inv, (ay - an * ny) * inv, (az - an * nz) * inv
+
+
+@njit(inline="always", error_model="numpy")
+def _carry(u1, u2, t10, t11, t12, t20, t21, t22, m0, m1, m2, k,
+           nx, ny, nz, t1x, t1y, t1z, t2x, t2y, t2z, ct, st):
+    """The tangential vector ``u1 t1_old + u2 t2_old`` turned with the contact (``m = n_old +
+    n``, ``k = 1/(1 + n_old·n)``; the twist ``(cos, sin)``), in the new frame."""
+    vx = u1 * t10 + u2 * t20
+    vy = u1 * t11 + u2 * t21
+    vz = u1 * t12 + u2 * t22
+    c = (nx * vx + ny * vy + nz * vz) * k
+    vx, vy, vz = vx - c * m0, vy - c * m1, vz - c * m2
+    wx, wy, wz = ny * vz - nz * vy, nz * vx - nx * vz, nx * vy - ny * vx
+    vx, vy, vz = vx * ct + wx * st, vy * ct + wy * st, vz * ct + wz * st
+    return vx * t1x + vy * t1y + vz * t1z, vx * t2x + vy * t2y + vz * t2z
+
+
+@njit(error_model="numpy", _nrt=False, cache=True)
+def contact_range(lo, hi, fn, row, virgin, ws, lists, grains, cell, pairs, params, scratch, part):
+    """Pairs ``order[lo:hi]`` (all of one contact model: ``fn``, ``row``, ``virgin``; ``ws``
+    the workspace of its ``nq``). ``scratch = (s, du, res, tan)``; ``part`` the chunk's row."""
+    order = lists.order
+    x, v, w, R = grains.x, grains.v, grains.w, grains.radius
+    H, L = cell.H, cell.L
+    dt, skin, frictionless = params.dt, params.skin, params.frictionless
+    ax, ay, az = params.axis0, params.axis1, params.axis2
+    s, du, res, tan = scratch
+    W = s.shape[0]
+    kt, kn = row[LAW_KT], row[LAW_KN]
+    PI, PJ, PK = pairs.i, pairs.j, pairs.shift
+    ACT, S, NRM, T1, GAP = pairs.active, pairs.state, pairs.normal, pairs.t1, pairs.gap
+    FRC, GF, TQ, ST, SLIP = pairs.force, pairs.gforce, pairs.torque, pairs.status, pairs.slip
+    v00 = v01 = v02 = v10 = v11 = v12 = v20 = v21 = v22 = 0.0
+    s0 = s1 = s2 = s3 = s4 = s5 = 0.0
+    diss = fsum = closed = sliding = over = 0.0
+    bad = -1
+    for k in range(lo, hi):
+        c = order[k]
+        i, j = PI[c], PJ[c]
+        k0, k1, k2 = PK[c, 0], PK[c, 1], PK[c, 2]
+        lx = x[j, 0] - x[i, 0] + H[0, 0] * k0 + H[0, 1] * k1 + H[0, 2] * k2
+        ly = x[j, 1] - x[i, 1] + H[1, 0] * k0 + H[1, 1] * k1 + H[1, 2] * k2
+        lz = x[j, 2] - x[i, 2] + H[2, 0] * k0 + H[2, 1] * k1 + H[2, 2] * k2
+        dist = math.sqrt(lx * lx + ly * ly + lz * lz)
+        ri, rj = R[i], R[j]
+        gap = dist - ri - rj
+        fresh = ACT[c] == 0
+        if fresh and gap > 0.0:
+            continue
+        if gap > skin:  # opened beyond the skin: the contact is deleted
+            ACT[c] = 0
+            ST[c] = OPEN
+            for a in range(3):
+                FRC[c, a] = 0.0
+                GF[c, a] = 0.0
+                TQ[c, a] = 0.0
+            continue
+        inv = 1.0 / dist
+        nx, ny, nz = lx * inv, ly * inv, lz * inv
+        t1x, t1y, t1z = _frame(nx, ny, nz, ax, ay, az)
+        t2x, t2y, t2z = ny * t1z - nz * t1y, nz * t1x - nx * t1z, nx * t1y - ny * t1x
+        if fresh:
+            ACT[c] = 1
+            SLIP[c] = 0.0
+            for a in range(W):
+                s[a] = virgin[a]
+            du[0] = 0.0
+            du[1] = 0.0
+            du[2] = gap
+        else:
+            n0x, n0y, n0z = NRM[c, 0], NRM[c, 1], NRM[c, 2]
+            a0, a1, a2 = T1[c, 0], T1[c, 1], T1[c, 2]
+            b0, b1, b2 = n0y * a2 - n0z * a1, n0z * a0 - n0x * a2, n0x * a1 - n0y * a0
+            m0, m1, m2 = n0x + nx, n0y + ny, n0z + nz
+            kk = 1.0 / (1.0 + n0x * nx + n0y * ny + n0z * nz)
+            # the twist: an exact rotation by 2 atan(h), h = tan(θ/2) to O(θ⁵)
+            h = 0.25 * dt * ((w[i, 0] + w[j, 0]) * nx + (w[i, 1] + w[j, 1]) * ny
+                             + (w[i, 2] + w[j, 2]) * nz)
+            h += h * h * h / 3.0
+            h2 = 1.0 / (1.0 + h * h)
+            ct, st = (1.0 - h * h) * h2, 2.0 * h * h2
+            row_c = S[c]
+            s[0], s[1] = _carry(row_c[0], row_c[1], a0, a1, a2, b0, b1, b2, m0, m1, m2, kk,
+                                nx, ny, nz, t1x, t1y, t1z, t2x, t2y, t2z, ct, st)
+            s[3], s[4] = _carry(row_c[3], row_c[4], a0, a1, a2, b0, b1, b2, m0, m1, m2, kk,
+                                nx, ny, nz, t1x, t1y, t1z, t2x, t2y, t2z, ct, st)
+            s[2] = row_c[2]
+            for a in range(5, W):
+                s[a] = row_c[a]
+            # relative velocity of j's contact point to i's
+            ox = ri * w[i, 0] + rj * w[j, 0]
+            oy = ri * w[i, 1] + rj * w[j, 1]
+            oz = ri * w[i, 2] + rj * w[j, 2]
+            ux = v[j, 0] - v[i, 0] + L[0, 0] * lx + L[0, 1] * ly + L[0, 2] * lz - (oy * nz - oz * ny)
+            uy = v[j, 1] - v[i, 1] + L[1, 0] * lx + L[1, 1] * ly + L[1, 2] * lz - (oz * nx - ox * nz)
+            uz = v[j, 2] - v[i, 2] + L[2, 0] * lx + L[2, 1] * ly + L[2, 2] * lz - (ox * ny - oy * nx)
+            du[0] = dt * (ux * t1x + uy * t1y + uz * t1z)
+            du[1] = dt * (ux * t2x + uy * t2y + uz * t2z)
+            du[2] = gap - GAP[c]
+            if frictionless:
+                du[0] = du[1] = 0.0
+        status, failed = contact_update(fn, row, s, du, S[c], res, ws, MAX_DEPTH, False, tan)
+        if failed and (bad < 0 or c < bad):
+            bad = c
+        T1f, T2f, Nf = res[RES_FORCE], res[RES_FORCE + 1], res[RES_FORCE + 2]
+        gx = T1f * t1x + T2f * t2x - Nf * nx
+        gy = T1f * t1y + T2f * t2y - Nf * ny
+        gz = T1f * t1z + T2f * t2z - Nf * nz
+        FRC[c, 0], FRC[c, 1], FRC[c, 2] = T1f, T2f, Nf
+        GF[c, 0], GF[c, 1], GF[c, 2] = gx, gy, gz
+        TQ[c, 0], TQ[c, 1], TQ[c, 2] = ny * gz - nz * gy, nz * gx - nx * gz, nx * gy - ny * gx
+        NRM[c, 0], NRM[c, 1], NRM[c, 2] = nx, ny, nz
+        T1[c, 0], T1[c, 1], T1[c, 2] = t1x, t1y, t1z
+        GAP[c] = gap
+        ST[c] = status
+        SLIP[c] += res[RES_SLIP]
+        diss += res[RES_DISSIPATION]
+        if gap < 0.0:
+            over = max(over, -gap / min(ri, rj))
+        if Nf > 0.0:
+            # the virial of f = -g (the force of i on j): compression positive
+            v00 -= gx * lx
+            v01 -= gx * ly
+            v02 -= gx * lz
+            v10 -= gy * lx
+            v11 -= gy * ly
+            v12 -= gy * lz
+            v20 -= gz * lx
+            v21 -= gz * ly
+            v22 -= gz * lz
+            fsum += math.sqrt(gx * gx + gy * gy + gz * gz)
+            closed += 1.0
+            if status == PLASTIC:
+                sliding += 1.0
+            # affine stiffness (K_c G_k l)_a l_b, K_c = kt I + (kn - kt) n n
+            dk = kn - kt
+            s0 += (kt + dk * nx * nx) * lx * lx
+            s1 += (kt + dk * ny * ny) * ly * ly
+            s2 += (kt + dk * nz * nz) * lz * lz
+            s3 += ((kt + dk * ny * ny) * lz + dk * ny * nz * ly) * lz
+            s4 += ((kt + dk * nx * nx) * lz + dk * nx * nz * lx) * lz
+            s5 += ((kt + dk * nx * nx) * ly + dk * nx * ny * lx) * ly
+    part[P_VIRIAL + 0] += v00
+    part[P_VIRIAL + 1] += v01
+    part[P_VIRIAL + 2] += v02
+    part[P_VIRIAL + 3] += v10
+    part[P_VIRIAL + 4] += v11
+    part[P_VIRIAL + 5] += v12
+    part[P_VIRIAL + 6] += v20
+    part[P_VIRIAL + 7] += v21
+    part[P_VIRIAL + 8] += v22
+    part[P_DISSIPATION] += diss
+    part[P_FORCE] += fsum
+    part[P_CLOSED] += closed
+    part[P_SLIDING] += sliding
+    part[P_OVERLAP] = max(part[P_OVERLAP], over)
+    part[P_STIFF + 0] += s0
+    part[P_STIFF + 1] += s1
+    part[P_STIFF + 2] += s2
+    part[P_STIFF + 3] += s3
+    part[P_STIFF + 4] += s4
+    part[P_STIFF + 5] += s5
+    if bad >= 0 and (part[P_FAILED] < 0.0 or bad < part[P_FAILED]):
+        part[P_FAILED] = bad
+
+
+@njit(error_model="numpy", _nrt=False, cache=True)
+def grain_range(lo, hi, lists, grains, cell, pairs, params, F_build, part):
+    """Grains ``lo <= g < hi``: gather, damp, integrate. ``F_build = H_new H_build^{-1}`` for
+    the displacement since the neighbour build; ``part`` the chunk's row."""
+    start, entry = lists.grain_start, lists.grain_entry
+    x, v, w, R = grains.x, grains.v, grains.w, grains.radius
+    im, ii, xb = grains.inv_mass, grains.inv_inertia, grains.x_build
+    L = cell.L
+    GF, TQ = pairs.gforce, pairs.torque
+    dt, lam = params.dt, params.damping
+    fsum = kinetic = damping = largest = 0.0
+    for g in range(lo, hi):
+        f0 = f1 = f2 = 0.0
+        m0 = m1 = m2 = 0.0
+        for e in range(start[g], start[g + 1]):
+            code = entry[e]
+            c = code >> 1
+            if code & 1:
+                f0 -= GF[c, 0]
+                f1 -= GF[c, 1]
+                f2 -= GF[c, 2]
+            else:
+                f0 += GF[c, 0]
+                f1 += GF[c, 1]
+                f2 += GF[c, 2]
+            m0 += TQ[c, 0]
+            m1 += TQ[c, 1]
+            m2 += TQ[c, 2]
+        r = R[g]
+        m0, m1, m2 = r * m0, r * m1, r * m2
+        fsum += math.sqrt(f0 * f0 + f1 * f1 + f2 * f2)
+        kin = 0.0
+        loss = 0.0
+        for a in range(3):
+            F = f0 if a == 0 else (f1 if a == 1 else f2)
+            acc = F * im[g]
+            old = v[g, a]
+            damp = lam * math.copysign(1.0, F * (old + 0.5 * dt * acc)) if F != 0.0 else 0.0
+            new = old + dt * acc * (1.0 - damp)
+            v[g, a] = new
+            loss += damp * F * 0.5 * (old + new) * dt
+            kin += new * new / im[g]
+            M = m0 if a == 0 else (m1 if a == 1 else m2)
+            acc = M * ii[g]
+            old = w[g, a]
+            damp = lam * math.copysign(1.0, M * (old + 0.5 * dt * acc)) if M != 0.0 else 0.0
+            new = old + dt * acc * (1.0 - damp)
+            w[g, a] = new
+            loss += damp * M * 0.5 * (old + new) * dt
+            kin += new * new / ii[g]
+        kinetic += 0.5 * kin
+        damping += loss
+        x0, x1, x2 = x[g, 0], x[g, 1], x[g, 2]
+        x[g, 0] = x0 + dt * (v[g, 0] + L[0, 0] * x0 + L[0, 1] * x1 + L[0, 2] * x2)
+        x[g, 1] = x1 + dt * (v[g, 1] + L[1, 0] * x0 + L[1, 1] * x1 + L[1, 2] * x2)
+        x[g, 2] = x2 + dt * (v[g, 2] + L[2, 0] * x0 + L[2, 1] * x1 + L[2, 2] * x2)
+        d0 = x[g, 0] - (F_build[0, 0] * xb[g, 0] + F_build[0, 1] * xb[g, 1] + F_build[0, 2] * xb[g, 2])
+        d1 = x[g, 1] - (F_build[1, 0] * xb[g, 0] + F_build[1, 1] * xb[g, 1] + F_build[1, 2] * xb[g, 2])
+        d2 = x[g, 2] - (F_build[2, 0] * xb[g, 0] + F_build[2, 1] * xb[g, 1] + F_build[2, 2] * xb[g, 2])
+        largest = max(largest, d0 * d0 + d1 * d1 + d2 * d2)
+    part[G_FORCE] += fsum
+    part[G_KINETIC] += kinetic
+    part[G_DAMPING] += damping
+    part[G_SHIFT] = max(part[G_SHIFT], math.sqrt(largest))

@@ -1,0 +1,166 @@
+r"""The HDF5 run file of a dynamic run: its records as they come, and the engine's state to
+resume from, bit for bit.
+
+Layout (``docs/assembly.md``, "Run files"):
+
+* root attributes: ``software``, ``command``, ``parameters`` (JSON, ``method = "dem"``),
+  ``sample``, ``status``, and ``engine``: the slot (``a`` or ``b``) holding the state to resume
+  from;
+* ``/records/000000, ...``: one group per record (0: the consolidated sample): ``stress``,
+  ``strain``, ``positions``, ``cell``, the record's numbers as attributes, and its contacts
+  (``contacts/grains``, ``shift``, ``frame``, ``force``, ``slip``, ``status``, ``group``,
+  ``states/g/...``); the attribute ``complete`` is written last;
+* ``/engine/a``, ``/engine/b``: the engine's state (grains, cell, pairs with the contacts'
+  histories, stress, meters, and the grains of one pair per contact model) with the record it
+  belongs to and the stage (``frictionless``, ``consolidation``, ``shear``).
+
+A record is written after the engine's state of the same moment went into the slot not in use,
+and the root's ``engine`` attribute is switched last: an interruption at any point leaves the
+file at its last complete record with the state that continues it.
+"""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+
+from ...contact import ContactState
+from ...errors import FrictionRulesError
+from ...laws import LawState
+from .._results import ContactSnapshot
+from .._runfile import _sample_key
+from ._records import Record
+from ._state import METERS, Cell, DemState, Grains, Pairs
+
+__all__ = ["DemRunFile"]
+
+_SCALARS = ("time", "steps", "coordination", "coordination_without_rattlers", "sliding_fraction",
+            "unbalanced_force", "boundary_work", "dissipation", "damping_loss", "elastic_energy",
+            "kinetic_energy")
+_SNAPSHOT = ("grains", "shift", "frame", "force", "slip", "status", "group")
+
+
+class DemRunFile:
+    """An open run file of a dynamic run (use :meth:`open`)."""
+
+    def __init__(self, h5, assembly):
+        self.h5, self.assembly = h5, assembly
+
+    @classmethod
+    def open(cls, path, assembly, options: dict) -> "DemRunFile":
+        from ..._optional import require
+        from ..._output import check_output, command_line
+        h5py = require("h5py", purpose="assembly run files")
+        path = check_output(path, (".h5", ".hdf5"), name="run_file")
+        parameters = json.dumps(options, sort_keys=True)
+        sample = json.dumps(_sample_key(assembly), sort_keys=True)
+        if path.exists():
+            h5 = h5py.File(path, "a")
+            if h5.attrs.get("parameters") != parameters or h5.attrs.get("sample") != sample:
+                h5.close()
+                raise FrictionRulesError(
+                    f"run_file = {str(path)!r} holds another run (other sample or loading); "
+                    "constraint: the same assembly and options to resume, or a new file")
+        else:
+            h5 = h5py.File(path, "w")
+            from ... import __version__
+            h5.attrs["software"] = f"frictionrules {__version__}"
+            h5.attrs["command"] = command_line()
+            h5.attrs["parameters"] = parameters
+            h5.attrs["sample"] = sample
+            h5.create_group("records")
+        h5.attrs["status"] = "running"
+        h5.flush()
+        return cls(h5, assembly)
+
+    # ---- writing ----------------------------------------------------------------------------
+    def _slot(self) -> str:
+        return "b" if self.h5.attrs.get("engine", "") == "a" else "a"
+
+    def _write_engine(self, k: int, state: DemState, dyn, stage: str) -> str:
+        slot = self._slot()
+        name = f"engine/{slot}"
+        if name in self.h5:
+            del self.h5[name]
+        g = self.h5.create_group(name)
+        for part, record in (("grains", state.grains), ("cell", state.cell), ("pairs", state.pairs)):
+            for key, value in record._asdict().items():
+                g.create_dataset(f"{part}/{key}", data=value)
+        g.create_dataset("stress", data=state.stress)
+        g.create_dataset("meters", data=state.meters)
+        g.create_dataset("group_keys", data=dyn.group_keys(state))
+        g.attrs["record"] = int(k)
+        g.attrs["stage"] = stage
+        g.attrs["complete"] = True
+        self.h5.flush()
+        return slot
+
+    def save_engine(self, k: int, state: DemState, dyn, stage: str) -> None:
+        """The engine's state (of record ``k``; -1 before the first) as the one to resume from."""
+        self.h5.attrs["engine"] = self._write_engine(k, state, dyn, stage)
+        self.h5.flush()
+
+    def append(self, k: int, record: Record, state: DemState, dyn, stage: str) -> None:
+        """Record ``k`` and the engine's state at it."""
+        slot = self._write_engine(k, state, dyn, stage)
+        name = f"{k:06d}"
+        rec = self.h5["records"]
+        if name in rec:
+            del rec[name]
+        g = rec.create_group(name)
+        for key in ("stress", "strain", "positions", "cell"):
+            g.create_dataset(key, data=getattr(record, key))
+        for key in _SCALARS:
+            g.attrs[key] = getattr(record, key)
+        snap = record.contacts
+        for key in _SNAPSHOT:
+            g.create_dataset(f"contacts/{key}", data=getattr(snap, key), compression="gzip")
+        for m, s in enumerate(snap.states):
+            sg = g.create_group(f"contacts/states/{m}")
+            for key in ("elastic", "plastic", "kappa", "beta"):
+                sg.create_dataset(key, data=np.asarray(getattr(s, key)))
+            sg.create_dataset("internal", data=s.internal.values)
+            sg.attrs["names"] = json.dumps(list(s.internal.names))
+        g.attrs["complete"] = True
+        self.h5.flush()
+        self.h5.attrs["engine"] = slot
+        self.h5.flush()
+
+    def close(self, status: str) -> None:
+        self.h5.attrs["status"] = status
+        self.h5.close()
+
+    # ---- reading ----------------------------------------------------------------------------
+    def restore(self, dyn):
+        """``(stage, state, records)`` to continue from, or None for a new file."""
+        slot = self.h5.attrs.get("engine", "")
+        if not slot:
+            return None
+        g = self.h5[f"engine/{slot}"]
+        last = int(g.attrs["record"])
+        records = [self._record(self.h5[f"records/{k:06d}"]) for k in range(last + 1)]
+        grains = Grains(**{k: np.asarray(v) for k, v in g["grains"].items()})
+        cell = Cell(**{k: np.asarray(v) for k, v in g["cell"].items()})
+        pairs = Pairs(**{k: np.asarray(v) for k, v in g["pairs"].items()})
+        meters = np.asarray(g["meters"]).astype(METERS)
+        state = DemState(grains, cell, pairs, np.asarray(g["stress"]), meters)
+        dyn.restore_groups(np.asarray(g["group_keys"]))
+        return str(g.attrs["stage"]), state, records
+
+    def _record(self, g) -> Record:
+        c = g["contacts"]
+        states = []
+        for m in range(len(c["states"])):
+            sg = c[f"states/{m}"]
+            names = tuple(json.loads(sg.attrs["names"]))
+            states.append(ContactState(np.asarray(sg["elastic"]), np.asarray(sg["plastic"]),
+                                       np.asarray(sg["kappa"]), np.asarray(sg["beta"]),
+                                       LawState(names, np.asarray(sg["internal"]))))
+        snap = ContactSnapshot(*(np.asarray(c[key]) for key in _SNAPSHOT[:-1]), tuple(states),
+                               np.asarray(c["group"]))
+        scalars = {key: g.attrs[key] for key in _SCALARS}
+        return Record(float(scalars["time"]), int(scalars["steps"]), np.asarray(g["stress"]),
+                      np.asarray(g["strain"]),
+                      *(float(scalars[key]) for key in _SCALARS[2:]), snap,
+                      np.asarray(g["positions"]), np.asarray(g["cell"]))
