@@ -84,6 +84,7 @@ def main(argv=None) -> int:
 
 def _main(argv) -> int:
     from .._output import command_line
+    from ._needs import check_needs
 
     argv = [str(a) for a in (sys.argv[1:] if argv is None else argv)]
     parser = build_parser()
@@ -94,6 +95,7 @@ def _main(argv) -> int:
     args.command_line = command_line(argv)
     debug = args.debug or os.environ.get("FRICTIONRULES_DEBUG", "") not in ("", "0")
     try:
+        check_needs(args)
         return int(args.run(args) or 0)
     except ModuleNotFoundError as exc:  # an optional package: name the extra that installs it
         from .._optional import missing_module_message
