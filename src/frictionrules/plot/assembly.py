@@ -52,7 +52,7 @@ def plot_response(result, axes=None, label=None, linestyle="-", title=None):
     if title is None:
         title = f"{result.kind.replace('_', ' ')} test"
         if label is None:
-            title += (f": peak $\sigma_1/\sigma_3$ = {result.peak_ratio:.4g}, friction angle "
+            title += (rf": peak $\sigma_1/\sigma_3$ = {result.peak_ratio:.4g}, friction angle "
                       f"{result.peak_friction_angle:.3g}°" if result.failed else ": no failure")
     a.set_title(title, fontsize=9)
     if any(not h.get_label().startswith("_") for h in a.lines):
