@@ -138,30 +138,17 @@ def test_cli_drive_plot_has_a_panel_per_direction_under_the_law(tmp_path, monkey
     kept = {}
     monkeypatch.setattr(plt, "close", lambda fig: kept.setdefault("fig", fig))
     src = tmp_path / "d.toml"
-    src.write_text("""
-[model]
-kn = 100.0
-kt = 50.0
-[model.law]
-type = "Coulomb"
-mu = 0.5
-[[segment]]
-N = 1.0
-dt1 = 0.0
-dt2 = 0.0
-steps = 2
-[[segment]]
-dt1 = 0.05
-dt2 = 0.05
-steps = 10
-""")
+    from test_cli_fuzz import DRIVE
+    path45 = DRIVE.replace("dt1 = 0.05\nsteps = 3", "dt1 = 0.05\ndt2 = 0.05\nsteps = 10")
+    assert path45 != DRIVE
+    src.write_text(path45)
     assert main(["drive", str(src), "--plot", str(tmp_path / "p.png"), "--quiet"]) == 0
     fig = kept["fig"]
     axes = fig.axes
     assert [ax.get_ylabel() for ax in axes] == ["force $T_1$", "force $T_2$",
                                                  "force $N$ (compression > 0)"]
     title = fig.get_suptitle()
-    assert "Coulomb(mu=0.5" in title and "kn = 100, kt = 50" in title
+    assert "Coulomb(mu=0.5" in title and "kn = 100, kt = 100" in title
     T1, T2 = (ax.lines[0].get_ydata() for ax in axes[:2])
     np.testing.assert_allclose(T1, T2, atol=1e-12)        # the 45° path
     assert T2.max() == pytest.approx(0.5 / np.sqrt(2.0), rel=1e-6)   # mu N along 45°
