@@ -49,7 +49,8 @@ html_title = f"frictionrules {release}"
 html_theme_options = {
     "description": "Contact friction treated as plasticity",
     "fixed_sidebar": True,
-    "page_width": "1240px",    # 1280-px screens: ~100 characters of code per line
+    "page_width": "1240px",    # 1280-px screens: the text column takes ~110 characters of code
+    "body_max_width": "960px",
     "sidebar_width": "240px",
 }
 html_show_sourcelink = False
