@@ -404,7 +404,6 @@ def _figure(path, conf, law, curve, Q, meta):
     import numpy as np
 
     from .._output import write_figure
-    from ..plot._layout import legend_beside
     from ..plot.asperities import limit_curve, surface_limit_curve
     load = curve.load[np.isfinite(curve.load)]
     box = float(min(2.0 * np.max(load), 4.0 * np.median(load))) if len(load) else 1.0
@@ -418,7 +417,7 @@ def _figure(path, conf, law, curve, Q, meta):
         ax = limit_curve(law, Q, box=box, n=max(conf["n"], 720))
         ax.set_title(f"limit curve of {type(law).__name__}, {_count(law)} facets\n{rule}",
                      fontsize=9)
-        legend_beside(ax, "right")
+        ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0, fontsize=7)
     written = write_figure(ax.figure, path, metadata=meta, bbox_inches="tight")
     plt.close(ax.figure)
     return written
