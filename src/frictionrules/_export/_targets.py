@@ -40,9 +40,11 @@ _UNITS = {"angle": ("frame angle of the law's axes from local direction 1", "rad
 
 
 def _param_entries(spec) -> list[Entry]:
+    own = spec.law.parameter_descriptions   # a user law's parameters: its words, no guess
     out = []
     for n in spec.param_names:
-        meaning, unit = _UNITS.get(n, ("law parameter", "as in the law"))
+        meaning, unit = ((own[n], "as in the law") if n in own
+                         else _UNITS.get(n, ("law parameter", "as in the law")))
         out.append(Entry(n, meaning, unit))
     return out
 

@@ -110,9 +110,21 @@ def run(args) -> int:
         hardening = fr.SlipHardening(*args.hardening)
     result = fr.export(law, args.target, args.out, kt=args.kt, kn=args.kn, hardening=hardening,
                        name=args.name)
-    print(f"{args.target}: PROPS ({len(result.props)}) = "
-          + ", ".join(f"{n}={v:.6g}" for n, v in zip(result.props_names, result.props))
-          + f"; DEPVAR {result.nstatv}" + ("; unsymmetric tangent" if result.unsymmetric else ""))
+    print(summary(result))
     for path in result.files:
         print(f"wrote {path}")
     return 0
+
+
+def summary(result) -> str:
+    """One line in the words of the host: the Abaqus keyword and its PROPERTIES and DEPVAR, or
+    the C arrays ``params`` and ``state``."""
+    values = ", ".join(f"{n}={v:.6g}" for n, v in zip(result.props_names, result.props))
+    if result.target == "c":
+        return (f"c: params[{len(result.props)}] = {{{values}}}, state[{result.nstatv}]"
+                + ("; the tangent is unsymmetric (a general 3 x 3 matrix)"
+                   if result.unsymmetric else ""))
+    keyword = "*SURFACE INTERACTION, USER" if result.target == "abaqus-uinter" else "*FRICTION, USER"
+    return (f"{result.target}: {keyword}, DEPVAR={result.nstatv}, PROPERTIES={len(result.props)}"
+            f" ({values})" + ("; unsymmetric tangent: *STEP, UNSYMM=YES"
+                              if result.unsymmetric and result.target != "abaqus-vfric" else ""))

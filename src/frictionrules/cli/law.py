@@ -186,6 +186,19 @@ def evaluate(law, T, N, theta=None) -> dict:
 _ANGLE_KEYS = ("theta", "force_angle", "force_direction")
 
 
+def law_text(law, deg: bool) -> str:
+    """``repr(law)``, with its angle parameters (``alpha``, ``angle``) in degrees when ``deg``:
+    the law as the command line was given it."""
+    import dataclasses
+
+    import numpy as np
+    if not deg or not dataclasses.is_dataclass(law):
+        return repr(law)
+    parts = [f"{f.name}={np.rad2deg(getattr(law, f.name)):.12g} deg" if f.name in _ANGLES
+             else f"{f.name}={getattr(law, f.name)!r}" for f in dataclasses.fields(law) if f.repr]
+    return f"{type(law).__name__}({', '.join(parts)})"
+
+
 def run(args) -> int:
     import numpy as np
 
@@ -201,6 +214,7 @@ def run(args) -> int:
     else:
         out = evaluate(law, np.array(args.force), args.normal, theta)
     unit = "deg" if args.deg else "rad"
+    out["law"] = law_text(law, args.deg)
     if args.deg:
         out = {k: (float(np.rad2deg(v)) if k in _ANGLE_KEYS else v) for k, v in out.items()}
     if args.json:

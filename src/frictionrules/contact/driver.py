@@ -130,7 +130,10 @@ class DriveResult:
     ----------
     force : (rows, 3) ``(T1, T2, N)``; displacement, plastic : (rows, 3) ``(δt1, δt2, δn)``
     and its plastic part; kappa, beta : (rows,); work : (rows,) cumulative plastic work;
-    status : (rows,) 0 elastic, 1 plastic, 2 open (of the step that ended there).
+    status : (rows,) 0 elastic, 1 plastic, 2 open (of the step that ended there);
+    law_variables : the internal variables of the law (``law.state_names``): the table has a
+    ``beta`` column only for a law with the area fraction β (the cap of §4), whose ``beta``
+    otherwise stays at its initial value and means nothing.
     """
 
     force: np.ndarray
@@ -141,9 +144,11 @@ class DriveResult:
     work: np.ndarray
     status: np.ndarray
     final: ContactState = field(repr=False)
+    law_variables: tuple[str, ...] = ("kappa", "beta")
 
     def columns(self) -> dict[str, np.ndarray]:
-        """The table as named columns (see :data:`COLUMNS`)."""
+        """The table as named columns (see :data:`COLUMNS`; ``beta`` only where the law has
+        it)."""
         out = {"step": np.arange(len(self.kappa))}
         for k, name in enumerate(("T1", "T2", "N")):
             out[name] = self.force[:, k]
@@ -151,7 +156,8 @@ class DriveResult:
             out[name] = self.displacement[:, k]
             out[name + "p"] = self.plastic[:, k]
         out.update(kappa=self.kappa, beta=self.beta, work=self.work, status=self.status)
-        return {name: out[name] for name in COLUMNS}
+        return {name: out[name] for name in COLUMNS
+                if name != "beta" or "beta" in self.law_variables}
 
     def to_csv(self, path, attrs=None) -> _FilePath:
         """Write the table as CSV (atomically): column names, ``# units`` and ``attrs`` comment
@@ -254,7 +260,7 @@ def drive(model: ContactModel, path, state: ContactState | None = None, *, beta=
         beta=np.array([float(r[1].beta) for r in rows]),
         work=np.array([r[2] for r in rows]),
         status=np.array([r[3] for r in rows]),
-        final=state)
+        final=state, law_variables=tuple(model.effective_law.state_names))
 
 
 def _extended_force(model, res):

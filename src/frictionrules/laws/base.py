@@ -185,6 +185,12 @@ class FrictionLaw:
                 out[f.name] = v
         return out
 
+    @property
+    def parameter_descriptions(self) -> dict[str, str]:
+        """The law's own words for its parameters, name -> text (a user law's; the built-in
+        laws' parameters are described by their classes' docstrings): empty by default."""
+        return {}
+
     def replace(self, **changes) -> "FrictionLaw":
         """A copy of the law with some parameters changed (validated like the constructor)."""
         unknown = sorted(set(changes) - set(self.parameters))

@@ -111,6 +111,10 @@ class HardenedLaw(FrictionLaw):
     def parameters(self) -> dict[str, float]:
         return {**self.law.parameters, "h": self.hardening.h, "kappa_h": self.hardening.kappa_h}
 
+    @property
+    def parameter_descriptions(self) -> dict[str, str]:
+        return self.law.parameter_descriptions
+
     def replace(self, **changes) -> "HardenedLaw":
         own = {k: changes.pop(k) for k in ("h", "kappa_h") if k in changes}
         law = self.law.replace(**changes) if changes else self.law
