@@ -6,6 +6,7 @@ multi-contact solvers. The public API is re-exported here; the SymPy symbols ``T
 for user laws are imported lazily (SymPy loads on first use).
 """
 
+from ._version import __version__
 from .errors import FrictionRulesError
 from .laws import (
     Cone,
@@ -52,8 +53,6 @@ from .configuration import (
 )
 # grain assemblies: many grains, a law at every contact (§5, (4.12))
 from .assembly import Assembly, ContactSnapshot, SampleState, TriaxialResult, load_cell, triaxial
-
-__version__ = "0.1.0"
 
 __all__ = [
     "FrictionRulesError",
