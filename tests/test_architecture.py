@@ -179,3 +179,70 @@ def test_no_control_characters_in_sources():
            for i, line in enumerate(p.read_text().splitlines(), 1)
            if any(c in line for c in "\t\b\f\v\a")]
     assert not bad, bad
+
+
+def _concrete_laws() -> set[str]:
+    """Names of the concrete law classes: dataclasses deriving from FrictionLaw, wherever
+    they are defined (every module imported)."""
+    import dataclasses
+    import importlib
+    import pkgutil
+
+    from frictionrules.laws import FrictionLaw
+    for info in pkgutil.walk_packages(frictionrules.__path__, "frictionrules."):
+        if not info.name.endswith("__main__"):
+            importlib.import_module(info.name)
+    out, todo = set(), [FrictionLaw]
+    while todo:
+        cls = todo.pop()
+        todo += cls.__subclasses__()
+        if cls is not FrictionLaw and dataclasses.is_dataclass(cls) and \
+                "__dataclass_fields__" in vars(cls):
+            out.add(cls.__name__)
+    return out
+
+
+def _type_tests(tree: ast.AST):
+    """``(line, class names)`` of every isinstance/issubclass call and ``type(x) is/== C``."""
+    def names(node):
+        if isinstance(node, ast.Tuple):
+            return [n for e in node.elts for n in names(e)]
+        if isinstance(node, ast.Name):
+            return [node.id]
+        if isinstance(node, ast.Attribute):
+            return [node.attr]
+        return []
+
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and \
+                node.func.id in ("isinstance", "issubclass") and len(node.args) == 2:
+            yield node.lineno, names(node.args[1])
+        elif isinstance(node, ast.Compare):
+            sides = [node.left, *node.comparators]
+            if any(isinstance(s, ast.Call) and isinstance(s.func, ast.Name) and
+                   s.func.id == "type" for s in sides):
+                yield node.lineno, [n for s in sides for n in names(s)]
+
+
+def test_no_isinstance_on_a_concrete_law_outside_laws():
+    """A consumer asks a law for its capabilities and traits (``law.traits``,
+    ``law.capabilities``, ``law.state_names``), never for its class: a law added to
+    ``laws/`` then works everywhere, and a user law written for a built-in one behaves as it."""
+    concrete = _concrete_laws()
+    assert {"Coulomb", "EllipsoidCap", "UserLaw", "FacetSet"} <= concrete
+    bad = []
+    for mod, path in _modules().items():
+        if mod == "frictionrules.laws" or mod.startswith("frictionrules.laws."):
+            continue
+        for line, used in _type_tests(ast.parse(path.read_text())):
+            hits = sorted(set(used) & concrete)
+            if hits:
+                bad.append(f"{path.relative_to(SRC.parent)}:{line}: {', '.join(hits)}")
+    assert not bad, "\n".join(bad)
+
+
+def test_the_type_test_scan_sees_each_form():
+    tree = ast.parse("isinstance(a, Coulomb)\nisinstance(a, (float, laws.Huber))\n"
+                     "type(a) is UserLaw\nissubclass(c, EllipsoidCap)\n")
+    assert [n for _, n in _type_tests(tree)] == [["Coulomb"], ["float", "Huber"], ["UserLaw"],
+                                                  ["EllipsoidCap"]]

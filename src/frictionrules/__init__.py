@@ -14,10 +14,12 @@ from .laws import (
     EllipsoidCap,
     EllipticOrthotropic,
     FrictionLaw,
+    LAWS,
     HardenedLaw,
     Huber,
     InverseRelation,
     LawState,
+    LawTraits,
     RuleComparison,
     SlipHardening,
     SymbolicLaw,
@@ -25,6 +27,9 @@ from .laws import (
     UserLaw,
     WedgeAsperity,
     compare_rules,
+    law_from_mapping,
+    law_to_toml,
+    read_law,
 )
 # asperity mechanisms, real surfaces and calibration (§2)
 from .asperities import FacetSet, TwoFlankAsperity, fit, from_heightmap, from_profile
@@ -39,7 +44,7 @@ from .parallel import SweepPoint, sweep
 # elastic-plastic contact with hardening and softening (§4)
 from .contact import ContactModel, ContactState, DriveResult, UpdateResult, drive
 # export to finite-element codes (Abaqus user subroutines, C)
-from ._export import ExportResult, export
+from ._export import EXPORT_TARGETS, ExportResult, export
 # configuration softening: grains sliding over layers (§3)
 from .configuration import (
     CylinderOnLayer,
@@ -85,6 +90,11 @@ __all__ = [
     "Cone",
     "SlipHardening",
     "HardenedLaw",
+    "LawTraits",
+    "LAWS",
+    "read_law",
+    "law_from_mapping",
+    "law_to_toml",
     "T1",
     "T2",
     "N",
@@ -115,6 +125,7 @@ __all__ = [
     # export to finite-element codes
     "export",
     "ExportResult",
+    "EXPORT_TARGETS",
     # configuration softening (§3)
     "CylinderOnLayer",
     "SphereOnLayer",

@@ -68,26 +68,6 @@ class LawSpec:
         values = self.law.initial_values()
         return tuple(float(values.get(n, 0.0)) for n in self.state_names)
 
-    def dg_dn_vanishes(self) -> bool:
-        """True when the sliding potential does not depend on N (no dilatancy, no compaction:
-        the sliding rule moves the surfaces tangentially only)."""
-        import sympy
-
-        from ..laws.symbols import N
-        return sympy.simplify(sympy.diff(self.form.g, N)) == 0
-
-    def conical(self) -> bool:
-        """True when the limit surface at fixed internal variables is a cone in (T, N): f is
-        positively homogeneous (of degree 1 or 2) in the forces, so the limit force for a
-        slip direction is proportional to N."""
-        import sympy
-
-        from ..laws.symbols import N, T1, T2
-        s = sympy.Symbol("s", positive=True)
-        f = self.form.f
-        scaled = f.xreplace({T1: s * T1, T2: s * T2, N: s * N})
-        return any(sympy.simplify(scaled - s ** k * f) == 0 for k in (1, 2))
-
     def header(self, comment: str, target: str) -> list[str]:
         """Header comment lines (``comment`` is the comment marker): package version, law,
         parameters. No dates: the same law gives the same bytes."""

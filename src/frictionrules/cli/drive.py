@@ -9,7 +9,8 @@ from ._common import add_quiet
 def register(sub) -> None:
     p = sub.add_parser(
         "drive", help="drive one elastic-plastic contact along a mixed-control path (TOML)",
-        description="Read [model] (kn, kt, beta, [model.law], optional [model.hardening]), optional "
+        description="Read [model] (kn, kt, beta, [model.law]: a law in the layout of "
+                    "frictionrules.read_law, any law of the table, UserLaw included), optional "
                     "[output] file (relative to the TOML file) and [[segment]] tables (targets "
                     "T1|dt1, T2|dt2, N|dn and steps) from PATH.toml, drive the contact implicitly, "
                     "print a summary and write the table (CSV, JSON or HDF5 by suffix). See "
@@ -23,12 +24,6 @@ def register(sub) -> None:
                         "with suffix .png)")
     add_quiet(p)
     p.set_defaults(run=run)
-
-
-def _has_area_fraction(model) -> bool:
-    """True for laws whose state has the area fraction beta (the cap of §4)."""
-    from ..laws import EllipsoidCap
-    return isinstance(model.law, EllipsoidCap)
 
 
 def run(args) -> int:
@@ -55,7 +50,7 @@ def run(args) -> int:
     with _common.progress(args, "drive", len(path)) as bar:
         result = drive(model, path, beta=opts["beta"], progress=bar)
     F, d = result.force[-1], result.displacement[-1]
-    beta = f", β = {result.beta[-1]:.6g}" if _has_area_fraction(model) else ""
+    beta = f", β = {result.beta[-1]:.6g}" if "beta" in model.effective_law.state_names else ""
     print(f"{len(path)} steps; final T = ({F[0]:.6g}, {F[1]:.6g}), N = {F[2]:.6g}; "
           f"δ = ({d[0]:.6g}, {d[1]:.6g}, {d[2]:.6g}); κ = {result.kappa[-1]:.6g}{beta}; "
           f"plastic work {result.work[-1]:.6g}")

@@ -190,17 +190,6 @@ class UserLaw(FrictionLaw):
     def associated(self) -> bool:
         return self.potential_expr is None
 
-    @property
-    def tangentially_associated(self) -> bool:
-        """True when f - g depends on N (and the state) only: in-plane normality."""
-        import sympy
-
-        from .symbols import T1, T2
-        if self.associated:
-            return True
-        diff = self.limit_expr - self.potential_expr
-        return all(sympy.simplify(sympy.diff(diff, s)) == 0 for s in (T1, T2))
-
     def symbolic_form(self):
         import sympy
 
@@ -224,6 +213,29 @@ class UserLaw(FrictionLaw):
 
     # ---- as data (TOML files, the CLI) ------------------------------------------------------
     _KEYS = ("limit", "potential", "params", "state", "rates")
+
+    @classmethod
+    def parameter_table(cls) -> dict:
+        """What a user law is made of, as the law table lists it: the expressions and the
+        tables of parameters, internal variables and their rates."""
+        from ._params import Parameter
+        return {"limit": Parameter("limit", "limit condition f (expression)", "", kind=str),
+                "potential": Parameter("potential", "sliding potential g (expression; default f)",
+                                       "", kind=str, default=None),
+                "params": Parameter("params", "parameters of the expressions and their values",
+                                    "", kind=dict, default=None),
+                "state": Parameter("state", "internal variables and their virgin values", "",
+                                   kind=dict, default=None),
+                "rates": Parameter("rates", "evolution of each internal variable per unit "
+                                   "multiplier (4.5): an expression or \"slip\"", "", kind=dict,
+                                   default=None)}
+
+    @classmethod
+    def from_parameters(cls, where: str | None = None, **values) -> "UserLaw":
+        return cls.from_mapping(values, name=where or "UserLaw")
+
+    def arguments(self) -> dict:
+        return self.to_mapping()
 
     @classmethod
     def from_mapping(cls, table, *, name: str = "law") -> "UserLaw":
