@@ -155,7 +155,7 @@ def build_law(entry, args):
                                  f"(its parameters: {', '.join(table)})")
     if named:
         given["params"] = named
-    return entry.cls.from_parameters(f"law {entry.name!r}", **given)
+    return entry.cls.from_parameters(**given)
 
 
 def evaluate(law, T, N, theta=None) -> dict:

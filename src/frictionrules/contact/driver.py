@@ -353,8 +353,8 @@ def read_toml(file):
     hard = model_t.pop("hardening", None)  # the spelling before [model.law.hardening]
     beta = model_t.pop("beta", 0.5)
     try:
-        hardening = SlipHardening.from_parameters(f"{file}: [model.hardening]", **_table(
-            hard, "[model.hardening]", file)) if hard else None
+        hardening = SlipHardening.from_parameters(**_table(hard, "[model.hardening]", file)) \
+            if hard else None
         model = ContactModel(law, hardening=hardening, **model_t)
     except TypeError as exc:
         raise FrictionRulesError(f"{file}: [model]: {exc}") from exc

@@ -40,12 +40,15 @@ def law_from_mapping(table, *, where: str = "[law]"):
     table = dict(table)
     entry = law_entry(table.pop("type", "UserLaw"), where=f"{where} type")
     hardening = table.pop("hardening", None)
-    law = entry.cls.from_parameters(f"{where} ({entry.type})", **table)
-    if hardening is not None:
-        if not hasattr(hardening, "keys"):
-            raise FrictionRulesError(f"{where}.hardening = {hardening!r} violates: a table "
-                                     "(h, kappa_h)")
-        law = HardenedLaw(law, SlipHardening.from_parameters(f"{where}.hardening", **hardening))
+    try:
+        law = entry.cls.from_parameters(**table)
+        if hardening is not None:
+            if not hasattr(hardening, "keys"):
+                raise FrictionRulesError(f"hardening = {hardening!r} violates: a table "
+                                         "(h, kappa_h)")
+            law = HardenedLaw(law, SlipHardening.from_parameters(**hardening))
+    except FrictionRulesError as exc:
+        raise FrictionRulesError(f"{where} ({entry.type}): {exc}") from None
     return law
 
 

@@ -77,9 +77,13 @@ class Parameter:
         """``value`` converted (a float, a bool) where it satisfies :attr:`constraint`, else
         :class:`FrictionRulesError` naming the parameter, the value and the constraint."""
         if self.kind is float:
-            return check_scalar(self.name, value, lo=self.lo, hi=self.hi, lo_open=self.lo_open,
-                                hi_open=self.hi_open)
-        if self.kind is bool:
+            x = check_scalar(self.name, value)
+            lo, hi = self.lo, self.hi
+            if (lo is None or (x > lo if self.lo_open else x >= lo)) and \
+                    (hi is None or (x < hi if self.hi_open else x <= hi)):
+                return x
+            value = x
+        elif self.kind is bool:
             if isinstance(value, (bool, np.bool_)) or (isinstance(value, numbers.Integral)
                                                        and value in (0, 1)):
                 return bool(value)
@@ -162,26 +166,24 @@ class Parameterized:
         return out
 
     @classmethod
-    def from_parameters(cls, where: str | None = None, **values):
+    def from_parameters(cls, **values):
         """The object of the given parameters by name (nested parts built from theirs);
-        :class:`FrictionRulesError` for an unknown or a missing one (``where`` names the
-        place in messages, by default the class)."""
-        where = where or cls.__name__
+        :class:`FrictionRulesError` for an unknown or a missing one."""
         table = cls.parameter_table()
         unknown = sorted(set(values) - set(table) - {f.name for f in dataclasses.fields(cls)})
         if unknown:
-            raise FrictionRulesError(f"{where}: unknown parameters {unknown}; constraint: "
-                                     f"parameters in {list(table)}")
+            raise FrictionRulesError(f"unknown parameters {unknown}; constraint: parameters "
+                                     f"in {list(table)}")
         missing = [n for n, p in table.items() if p.required and n not in values]
         if missing:
-            raise FrictionRulesError(f"{where}: the parameters {missing} are missing; "
-                                     f"constraint: {cls.__name__} needs {missing}")
+            raise FrictionRulesError(f"the parameters {missing} are missing; constraint: "
+                                     f"{cls.__name__} needs {missing}")
         kwargs = {}
         for f in dataclasses.fields(cls):
             info = f.metadata.get("parameter", {})
             if info.get("nested"):
                 part = f.default_factory
-                kwargs[f.name] = part.from_parameters(where, **{
+                kwargs[f.name] = part.from_parameters(**{
                     k: values.pop(k) for k in part.parameter_table() if k in values})
             elif f.name in values:
                 kwargs[f.name] = values.pop(f.name)

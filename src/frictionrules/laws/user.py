@@ -231,8 +231,8 @@ class UserLaw(FrictionLaw):
                                    default=None)}
 
     @classmethod
-    def from_parameters(cls, where: str | None = None, **values) -> "UserLaw":
-        return cls.from_mapping(values, name=where or "UserLaw")
+    def from_parameters(cls, **values) -> "UserLaw":
+        return cls.from_mapping(values, name="UserLaw")
 
     def arguments(self) -> dict:
         return self.to_mapping()
