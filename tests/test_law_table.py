@@ -119,15 +119,17 @@ BOUNDED = [(e.cls, p) for e in fr.LAWS.values() for p in e.parameters.values()
 
 @pytest.mark.parametrize("cls, par", BOUNDED, ids=[f"{c.__name__}.{p.name}" for c, p in BOUNDED])
 def test_the_declared_bound_is_the_constraint_of_the_error(cls, par):
-    """A value just outside the declared bound raises, naming the parameter, the value and
-    the constraint the table declares; a value inside is accepted."""
+    """A value just outside the declared lower bound raises, naming the parameter, the value
+    and that bound as the table declares it; a value inside is accepted."""
     entry = next(e for e in fr.LAWS.values() if e.cls is cls)
     good = {n: (0.3 if n != "alpha" else 0.5) for n, p in entry.parameters.items()
             if p.required}
     outside = par.lo if par.lo_open else par.lo - 0.1
     with pytest.raises(fr.FrictionRulesError) as err:
         cls.from_parameters(**{**good, par.name: outside})
-    assert f"{par.name} = {outside!r}" in str(err.value) and par.constraint in str(err.value)
+    bound = f"{par.name} {'>' if par.lo_open else '>='} {par.lo}"
+    assert f"{par.name} = {outside!r} violates {bound}" in str(err.value)
+    assert bound in par.constraint
     cls.from_parameters(**{**good, par.name: par.lo + 0.2})
 
 

@@ -86,19 +86,14 @@ class LawSpec:
 
 def law_spec(law, *, kt, kn=None, hardening=None, name=None) -> LawSpec:
     """Check the arguments of :func:`frictionrules.export` and build the record."""
-    from ..laws import FrictionLaw, HardenedLaw, SlipHardening, require
+    from ..laws import FrictionLaw, HardenedLaw, require
     if not isinstance(law, FrictionLaw):
         raise FrictionRulesError(f"law = {law!r} violates: must be a friction law of frictionrules")
     kt = check_scalar("kt", kt, lo=0.0, lo_open=True)
     if kn is not None:
         kn = check_scalar("kn", kn, lo=0.0, lo_open=True)
     if hardening is not None:
-        if not isinstance(hardening, SlipHardening):
-            raise FrictionRulesError(f"hardening = {hardening!r} violates: must be a SlipHardening or None")
-        if law.state_names:
-            raise FrictionRulesError(f"hardening must be None for a law with internal variables "
-                                     f"{list(law.state_names)} (law = {type(law).__name__})")
-        law = HardenedLaw(law, hardening)
+        law = HardenedLaw(law, hardening)      # checks the hardening and the law
     require(law, "symbolic", "export(law=...)")
     if name is None:
         name = re.sub(r"[^a-z0-9]", "", type(law).__name__.lower())[:20] or "law"

@@ -90,18 +90,15 @@ def _param_value(par, value: str, item: str):
     return value
 
 
-def is_law_file(spec: str) -> bool:
-    from pathlib import Path
-    return spec.lower().endswith(".toml") or Path(spec).is_file()
-
-
 def law_of_spec(spec: str, args, what: str = "NAME"):
     """The law of a command line: a TOML law file (:func:`frictionrules.read_law`), or a name
     of the law table with its parameters as options. A user law parses its expressions with
     the whitelist parser: the text is never evaluated as code."""
+    from pathlib import Path
+
     from ..errors import FrictionRulesError
     from ..laws import law_entry, read_law
-    if is_law_file(spec):
+    if spec.lower().endswith(".toml") or Path(spec).is_file():
         given = [f"--{k.replace('_', '-')}" for k in _options() if getattr(args, k, None)
                  is not None] + [f"--param {item}" for item in args.param]
         if given:

@@ -15,14 +15,6 @@ from ..errors import FrictionRulesError, check_scalar
 
 __all__ = ["Parameter", "parameter", "Parameterized"]
 
-class _Required:
-    def __repr__(self) -> str:
-        return "REQUIRED"
-
-
-#: The default of a parameter that has none (it must be given).
-REQUIRED = _Required()
-
 
 @dataclass(frozen=True)
 class Parameter:
@@ -40,7 +32,9 @@ class Parameter:
         numbers (a user law's ``params``) or of expressions.
     lo, hi, lo_open, hi_open : bounds of a number (``None``: unbounded).
     choices : tuple of str
-    default : the value when not given (``REQUIRED``: none).
+    required : bool
+        It has no default.
+    default : the value when not given.
     """
 
     name: str
@@ -52,11 +46,8 @@ class Parameter:
     lo_open: bool = False
     hi_open: bool = False
     choices: tuple = ()
-    default: object = REQUIRED
-
-    @property
-    def required(self) -> bool:
-        return self.default is REQUIRED
+    required: bool = False
+    default: object = None
 
     @property
     def constraint(self) -> str:
@@ -75,15 +66,12 @@ class Parameter:
 
     def check(self, value):
         """``value`` converted (a float, a bool) where it satisfies :attr:`constraint`, else
-        :class:`FrictionRulesError` naming the parameter, the value and the constraint."""
-        if self.kind is float:
-            x = check_scalar(self.name, value)
-            lo, hi = self.lo, self.hi
-            if (lo is None or (x > lo if self.lo_open else x >= lo)) and \
-                    (hi is None or (x < hi if self.hi_open else x <= hi)):
-                return x
-            value = x
-        elif self.kind is bool:
+        :class:`FrictionRulesError` naming the parameter, the value and the constraint (for a
+        number, the bound it violates)."""
+        if self.kind is float:  # the message states the bound violated
+            return check_scalar(self.name, value, lo=self.lo, hi=self.hi, lo_open=self.lo_open,
+                                hi_open=self.hi_open)
+        if self.kind is bool:
             if isinstance(value, (bool, np.bool_)) or (isinstance(value, numbers.Integral)
                                                        and value in (0, 1)):
                 return bool(value)
@@ -97,40 +85,30 @@ class Parameter:
 
 def parameter(meaning: str, unit: str = "1", *, kind: type = float, lo=None, hi=None,
               lo_open: bool = False, hi_open: bool = False, choices: tuple = (),
-              default=REQUIRED, nested: bool = False):
+              default=dataclasses.MISSING, nested: bool = False):
     """A dataclass field declared as a checked parameter (see :class:`Parameterized`).
 
     ``nested=True`` marks a field holding a :class:`Parameterized` part (the hardening functions
     of the cap): its parameters count as the law's own, under their own names, and ``default``
     is then the part's class (its defaults make the default part).
     """
-    info = dict(meaning=meaning, unit=unit, kind=kind, lo=lo, hi=hi, lo_open=lo_open,
-                hi_open=hi_open, choices=tuple(choices), nested=nested)
     if nested:
-        return dataclasses.field(default_factory=default, metadata={"parameter": info})
-    if default is REQUIRED:
-        return dataclasses.field(metadata={"parameter": info})
-    return dataclasses.field(default=default, metadata={"parameter": info})
-
-
-def _declared(cls):
-    """``(field, info)`` of the declared parameter fields of a dataclass ``cls``."""
-    if not dataclasses.is_dataclass(cls):
-        return []
-    return [(f, f.metadata["parameter"]) for f in dataclasses.fields(cls)
-            if "parameter" in f.metadata]
+        return dataclasses.field(default_factory=default, metadata={"nested": True})
+    spec = Parameter("", meaning, unit, kind, lo, hi, lo_open, hi_open, tuple(choices))
+    return dataclasses.field(default=default, metadata={"parameter": spec})
 
 
 @functools.cache
 def _table(cls) -> dict[str, Parameter]:
+    """The declared parameters of a dataclass ``cls`` by name, nested parts' included."""
     out = {}
-    for f, info in _declared(cls):
-        if info["nested"]:
+    for f in dataclasses.fields(cls) if dataclasses.is_dataclass(cls) else ():
+        if f.metadata.get("nested"):
             out.update(_table(f.default_factory))
-            continue
-        keys = ("meaning", "unit", "kind", "lo", "hi", "lo_open", "hi_open", "choices")
-        default = REQUIRED if f.default is dataclasses.MISSING else f.default
-        out[f.name] = Parameter(f.name, **{k: info[k] for k in keys}, default=default)
+        elif "parameter" in f.metadata:
+            out[f.name] = dataclasses.replace(
+                f.metadata["parameter"], name=f.name, required=f.default is dataclasses.MISSING,
+                default=None if f.default is dataclasses.MISSING else f.default)
     return out
 
 
@@ -139,14 +117,14 @@ class Parameterized:
     object is made, and which can be rebuilt from its parameters by name."""
 
     def __post_init__(self):
-        for f, info in _declared(type(self)):
+        table = _table(type(self))
+        for f in dataclasses.fields(self):
             value = getattr(self, f.name)
-            if info["nested"]:
-                if not isinstance(value, f.default_factory):
-                    raise FrictionRulesError(f"{f.name} = {value!r} violates: must be of type "
-                                             f"{f.default_factory.__name__}")
-                continue
-            object.__setattr__(self, f.name, _table(type(self))[f.name].check(value))
+            if f.metadata.get("nested") and not isinstance(value, f.default_factory):
+                raise FrictionRulesError(f"{f.name} = {value!r} violates: must be of type "
+                                         f"{f.default_factory.__name__}")
+            if f.name in table:
+                object.__setattr__(self, f.name, table[f.name].check(value))
 
     @classmethod
     def parameter_table(cls) -> dict[str, Parameter]:
@@ -159,7 +137,7 @@ class Parameterized:
         out = {}
         for f in dataclasses.fields(self):
             value = getattr(self, f.name)
-            if f.metadata.get("parameter", {}).get("nested"):
+            if f.metadata.get("nested"):
                 out.update(value.arguments())
             else:
                 out[f.name] = value
@@ -180,8 +158,7 @@ class Parameterized:
                                      f"{cls.__name__} needs {missing}")
         kwargs = {}
         for f in dataclasses.fields(cls):
-            info = f.metadata.get("parameter", {})
-            if info.get("nested"):
+            if f.metadata.get("nested"):
                 part = f.default_factory
                 kwargs[f.name] = part.from_parameters(**{
                     k: values.pop(k) for k in part.parameter_table() if k in values})

@@ -219,7 +219,8 @@ class UserLaw(FrictionLaw):
         """What a user law is made of, as the law table lists it: the expressions and the
         tables of parameters, internal variables and their rates."""
         from ._params import Parameter
-        return {"limit": Parameter("limit", "limit condition f (expression)", "", kind=str),
+        return {"limit": Parameter("limit", "limit condition f (expression)", "", kind=str,
+                                   required=True),
                 "potential": Parameter("potential", "sliding potential g (expression; default f)",
                                        "", kind=str, default=None),
                 "params": Parameter("params", "parameters of the expressions and their values",
