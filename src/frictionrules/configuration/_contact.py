@@ -253,7 +253,7 @@ class GrainContact(FrictionLaw):
     def _inverse_relation(self, theta, Q, q):
         """Closed form for a local law without normal slip (:func:`slide`); the numeric default
         otherwise."""
-        if not _traits(self.law)[1]:
+        if self.law.traits.normal_slip:
             return super()._inverse_relation(theta, Q, q)
         s = slide(self.law, np.broadcast_to(self._axes, theta.shape + (3, 3)),
                   np.stack((np.cos(theta), np.sin(theta)), axis=-1), Q)
