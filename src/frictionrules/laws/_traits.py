@@ -114,11 +114,16 @@ def derive_traits(law) -> LawTraits:
 
 def limit_curve_is_convex(law) -> bool:
     """The limit curve at ``N = 1`` in the virgin state, sampled on 720 rays from the law's
-    centre, turns one way only (unbounded parts aside)."""
+    centre, turns one way only (unbounded parts aside); False where f cannot be evaluated
+    along the rays (convexity not shown)."""
+    from ..errors import FrictionRulesError
     from ._inverse import GRID, radius
     centre = np.asarray(law.centre(1.0), dtype=float).reshape(2)
     phi = -np.pi + 2.0 * np.pi * np.arange(GRID) / GRID
-    r = radius(law, centre, 1.0, phi, max(1.0, float(np.hypot(*centre))), None)
+    try:
+        r = radius(law, centre, 1.0, phi, max(1.0, float(np.hypot(*centre))), None)
+    except FrictionRulesError:
+        return False
     fin = np.isfinite(r)
     T = centre + np.where(fin, r, 0.0)[:, None] * np.stack((np.cos(phi), np.sin(phi)), axis=-1)
     e = np.roll(T, -1, axis=0) - T

@@ -212,8 +212,6 @@ class UserLaw(FrictionLaw):
         return cone_of(self)
 
     # ---- as data (TOML files, the CLI) ------------------------------------------------------
-    _KEYS = ("limit", "potential", "params", "state", "rates")
-
     @classmethod
     def parameter_table(cls) -> dict:
         """What a user law is made of, as the law table lists it: the expressions and the
@@ -250,13 +248,14 @@ class UserLaw(FrictionLaw):
             potential = "sqrt(T1**2 + T2**2) - psi*N"
             params = { mu = 0.5, psi = 0.1 }
         """
+        keys = list(cls.parameter_table())
         if not hasattr(table, "keys"):
             raise FrictionRulesError(f"{name} = {table!r} violates: a table with the keys "
-                                     f"{', '.join(cls._KEYS)}")
-        unknown = sorted(set(table) - set(cls._KEYS))
+                                     f"{', '.join(keys)}")
+        unknown = sorted(set(table) - set(keys))
         if unknown:
             raise FrictionRulesError(f"{name} has the unknown keys {unknown}; constraint: keys in "
-                                     f"{list(cls._KEYS)}")
+                                     f"{keys}")
         if "limit" not in table:
             raise FrictionRulesError(f"{name} has no 'limit'; constraint: the limit condition f "
                                      "is required")
