@@ -65,7 +65,7 @@ def test_built_in_laws_keep_their_parameter_meanings(tmp_path):
     from frictionrules import EllipticOrthotropic
     res = export(EllipticOrthotropic(0.6, 0.3), "abaqus-fric", tmp_path, kt=1e4)
     readme = next(p for p in res.files if p.name.endswith("README.md")).read_text()
-    assert "| `mu_x` | 0.6 | friction coefficient along x | 1 |" in readme
+    assert "| `mu_x` | 0.6 | friction coefficient along principal axis 1 | 1 |" in readme
 
 
 @pytest.mark.parametrize("target, line", [

@@ -48,7 +48,13 @@ SKIP = {"cli", "paper"}
 #: A short description of the names that are not classes or functions.
 DATA = {"T1": "SymPy symbol of the tangential force T1, for user laws (SymPy loads on first use).",
         "T2": "SymPy symbol of the tangential force T2, for user laws.",
-        "N": "SymPy symbol of the normal force N, for user laws."}
+        "N": "SymPy symbol of the normal force N, for user laws.",
+        "LAWS": "The law table (read-only): short name -> ``LawEntry`` (the class, its "
+                "parameters with meaning, unit and bounds).",
+        "EXPORT_TARGETS": "The export targets (read-only): name -> ``ExportTarget`` (title, "
+                          "the files written, the writer, what it can express)."}
+#: The API page of a name of :data:`DATA` not on the ``laws`` page.
+DATA_HOME = {"EXPORT_TARGETS": "_export"}
 EXAMPLE_TIMEOUT = 600
 
 
@@ -71,7 +77,7 @@ def _subpackages() -> list[str]:
 def _home(obj, name: str) -> str | None:
     """The subpackage of ``frictionrules`` that defines ``obj`` (``laws`` for a SymPy symbol)."""
     if name in DATA:
-        return "laws"
+        return DATA_HOME.get(name, "laws")
     module = getattr(obj, "__module__", "") or ""
     parts = module.split(".")
     return parts[1] if len(parts) > 1 and parts[0] == "frictionrules" else None

@@ -165,7 +165,7 @@ def provenance(*, command: str | None = None, model=None, parameters: Mapping | 
     The result is a plain dict of strings, numbers and dicts, stored as CSV comment lines,
     JSON ``"metadata"`` or HDF5 attributes. No time stamp: the same run writes the same bytes.
     """
-    from . import __version__
+    from ._version import __version__
     out: dict = {"software": f"frictionrules {__version__}"}
     if command is not None:
         out["command"] = command

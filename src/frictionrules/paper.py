@@ -198,7 +198,7 @@ def write_index(out_dir) -> Path:
     """Write ``out_dir/index.md``: every registered figure found in ``out_dir``, with its files
     and caption, the paper's first."""
     out_dir = Path(out_dir)
-    from . import __version__
+    from ._version import __version__
     lines = ["# Figures", "",
              f"Made by `frictionrules paper` (frictionrules {__version__}). `{PAPER}/`: the figures "
              "of Michałowski & Mróz (1978), numbered as in the paper, computed by the library; "

@@ -50,7 +50,7 @@ def build_parser() -> argparse.ArgumentParser:
         prog="frictionrules",
         description="Contact friction as plasticity: laws, sliding rules, asperity mechanisms, "
                     "contact integration and multi-contact solvers.")
-    from .. import __version__
+    from .._version import __version__
     parser.add_argument("--version", action="version", version=f"frictionrules {__version__}")
     parser.add_argument("--debug", action="store_true",
                         help="show the traceback of an internal error (or FRICTIONRULES_DEBUG=1)")

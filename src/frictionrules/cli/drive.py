@@ -9,7 +9,8 @@ from ._common import add_quiet
 def register(sub) -> None:
     p = sub.add_parser(
         "drive", help="drive one elastic-plastic contact along a mixed-control path (TOML)",
-        description="Read [model] (kn, kt, beta, [model.law], optional [model.hardening]), optional "
+        description="Read [model] (kn, kt, beta, [model.law]: a law in the layout of "
+                    "frictionrules.read_law, any law of the table, UserLaw included), optional "
                     "[output] file (relative to the TOML file) and [[segment]] tables (targets "
                     "T1|dt1, T2|dt2, N|dn and steps) from PATH.toml, drive the contact implicitly, "
                     "print a summary and write the table (CSV, JSON or HDF5 by suffix). See "

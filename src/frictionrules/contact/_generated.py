@@ -64,7 +64,7 @@ def module_source(form, law_name: str) -> str:
     """Source of the generated module of a symbolic form: the law's three local functions
     (deterministic: the same form gives the same bytes, so a cached module and its machine code
     stay valid)."""
-    from .. import __version__
+    from .._version import __version__
     from ..codegen import local_program, parameter_temps, python_function
 
     head = [

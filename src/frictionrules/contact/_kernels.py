@@ -343,6 +343,32 @@ def outputs(n: int) -> tuple:
 SERIAL_BELOW = 2048
 
 
+def _coulomb(serial, e, p, q, du, kt, kn, params, out):
+    mu, dilatant = params
+    (coulomb_update_serial if serial else coulomb_update)(e, p, np.zeros(len(e)), du, kt, kn, mu,
+                                                          bool(dilatant), *out)
+    return q.copy(), out[2]
+
+
+def _elliptic(serial, e, p, q, du, kt, kn, params, out):
+    (elliptic_update_serial if serial else elliptic_update)(e, p, np.zeros(len(e)), du, kt, kn,
+                                                            *params, *out)
+    return q.copy(), out[2]
+
+
+def _cap(serial, e, p, q, du, kt, kn, params, out):
+    kappa, beta = np.ascontiguousarray(q[:, 0]), np.ascontiguousarray(q[:, 1])
+    beta1 = np.empty(len(e))
+    (cap_update_serial if serial else cap_update)(e, p, kappa, beta, du, kt, kn, *params,
+                                                  *out[:3], beta1, *out[3:])
+    return np.stack((out[2], beta1), axis=-1), out[2] - q[:, 0]
+
+
+#: The hand-written kernels, by the name a law's closed-form return gives: each runs a batch
+#: and returns the new internal variables and the accumulated slip of the step.
+KERNELS = {"coulomb": _coulomb, "elliptic": _elliptic, "cap": _cap}
+
+
 def run_kernel(cfr, kt, kn, e, p, q, du):
     """Run a law's closed-form return ``cfr`` (:class:`~frictionrules.laws.ClosedFormReturn`).
 
@@ -351,29 +377,10 @@ def run_kernel(cfr, kt, kn, e, p, q, du):
     iteration failed (the caller integrates those with the derived return mapping).
     """
     from ._step import Step
-    serial = len(e) < SERIAL_BELOW
     out = outputs(len(e))
     e, p, du = (np.ascontiguousarray(a) for a in (e, p, du))
-    if cfr.kernel == "cap":
-        cap = cap_update_serial if serial else cap_update
-        kappa, beta = np.ascontiguousarray(q[:, 0]), np.ascontiguousarray(q[:, 1])
-        beta1 = np.empty(len(e))
-        cap(e, p, kappa, beta, du, kt, kn, *cfr.params, *out[:3], beta1, *out[3:])
-        q1 = np.stack((out[2], beta1), axis=-1)
-    else:
-        zero = np.zeros(len(e))
-        if cfr.kernel == "coulomb":
-            mu, dilatant = cfr.params
-            (coulomb_update_serial if serial else coulomb_update)(e, p, zero, du, kt, kn, mu,
-                                                                  bool(dilatant), *out)
-        elif cfr.kernel == "elliptic":
-            (elliptic_update_serial if serial else elliptic_update)(e, p, zero, du, kt, kn,
-                                                                    *cfr.params, *out)
-        else:
-            raise ValueError(f"unknown compiled return {cfr.kernel!r}")
-        q1 = q.copy()
-    e1, p1, kappa1, force, dlam, status, diss = out
+    q1, slip = KERNELS[cfr.kernel](len(e) < SERIAL_BELOW, e, p, q, du, kt, kn, cfr.params, out)
+    e1, p1, _, force, dlam, status, diss = out
     failed = status < 0
     status = np.where(failed, 0, status).astype(np.int64)
-    slip = kappa1 - q[:, 0] if cfr.kernel == "cap" else kappa1
     return Step(e1, p1, q1, force, dlam, status, diss, np.where(failed, 0.0, slip)), failed

@@ -323,25 +323,6 @@ def _table(value, where: str, file) -> dict:
     return dict(value)
 
 
-def _law_from_table(table: dict, file=""):
-    from .. import laws
-    from ..laws import AreaGrowth, AreaHardening, EllipsoidCap
-    table = _table(table, "[model.law]", file)
-    name = table.pop("type", None)
-    known = ("Coulomb", "EllipticOrthotropic", "Huber", "TransformedCoulomb", "WedgeAsperity")
-    if name not in (*known, "EllipsoidCap"):
-        raise FrictionRulesError(f"{file}: [model.law] type = {name!r}; constraint: one of "
-                                 f"{known + ('EllipsoidCap',)}")
-    try:
-        if name == "EllipsoidCap":
-            A = AreaHardening(**{k: table.pop(k) for k in ("p", "h", "kappa_h") if k in table})
-            B = AreaGrowth(**{k: table.pop(k) for k in ("b",) if k in table})
-            return EllipsoidCap(A=A, B=B, **table)
-        return getattr(laws, name)(**table)
-    except TypeError as exc:
-        raise FrictionRulesError(f"{file}: [model.law] {name}: {exc}") from exc
-
-
 def read_toml(file):
     """Read a drive file: ``(model, path, options)``.
 
@@ -351,13 +332,9 @@ def read_toml(file):
         kn = 100.0
         kt = 100.0
         beta = 0.5                  # initial area fraction
-        [model.law]
-        type = "EllipsoidCap"       # or Coulomb, EllipticOrthotropic, Huber, TransformedCoulomb,
-                                    # WedgeAsperity
+        [model.law]                 # a law in the one layout (frictionrules.read_law)
+        type = "EllipsoidCap"       # any law of frictionrules.LAWS, "UserLaw" included
         m = 0.6
-        [model.hardening]           # optional SlipHardening of a protocol law
-        h = 0.2
-        kappa_h = 0.05
         [output]
         file = "out.csv"            # optional: .csv, .json or .h5, relative to this file's folder
         [[segment]]
@@ -369,7 +346,7 @@ def read_toml(file):
     ``options`` holds ``beta`` and the output file (or None).
     """
     from .._toml import load_toml
-    from ..laws import SlipHardening
+    from ..laws import SlipHardening, law_from_mapping
     file = _FilePath(file)
     doc = load_toml(file)
     unknown = sorted(set(doc) - {"model", "output", "segment"})
@@ -378,11 +355,12 @@ def read_toml(file):
     model_t = _table(doc.get("model", {}), "[model]", file)
     if "law" not in model_t:
         raise FrictionRulesError(f"{file}: missing [model.law] table")
-    law = _law_from_table(model_t.pop("law"), file)
-    hard = model_t.pop("hardening", None)
+    law = law_from_mapping(model_t.pop("law"), where=f"{file}: [model.law]")
+    hard = model_t.pop("hardening", None)  # the spelling before [model.law.hardening]
     beta = model_t.pop("beta", 0.5)
     try:
-        hardening = SlipHardening(**_table(hard, "[model.hardening]", file)) if hard else None
+        hardening = SlipHardening.from_parameters(**_table(hard, "[model.hardening]", file)) \
+            if hard else None
         model = ContactModel(law, hardening=hardening, **model_t)
     except TypeError as exc:
         raise FrictionRulesError(f"{file}: [model]: {exc}") from exc

@@ -194,6 +194,13 @@ class UserLaw(FrictionLaw):
         own = dict(self.descriptions)
         return {k: own.get(k, "user parameter") for k, _ in self.params}
 
+    def parameter_info(self) -> dict:
+        """A :class:`~frictionrules.laws.Parameter` per user parameter: its meaning is the
+        user's description (never guessed from the name), its unit that of the law."""
+        from ._params import Parameter
+        return {k: Parameter(k, text, "as in the law")
+                for k, text in self.parameter_descriptions.items()}
+
     def replace(self, **changes) -> "UserLaw":
         unknown = sorted(set(changes) - set(self.parameters))
         if unknown:
@@ -210,17 +217,6 @@ class UserLaw(FrictionLaw):
     @property
     def associated(self) -> bool:
         return self.potential_expr is None
-
-    @property
-    def tangentially_associated(self) -> bool:
-        """True when f - g depends on N (and the state) only: in-plane normality."""
-        import sympy
-
-        from .symbols import T1, T2
-        if self.associated:
-            return True
-        diff = self.limit_expr - self.potential_expr
-        return all(sympy.simplify(sympy.diff(diff, s)) == 0 for s in (T1, T2))
 
     def symbolic_form(self):
         import sympy
@@ -244,7 +240,29 @@ class UserLaw(FrictionLaw):
         return cone_of(self)
 
     # ---- as data (TOML files, the CLI) ------------------------------------------------------
-    _KEYS = ("limit", "potential", "params", "state", "rates")
+    @classmethod
+    def parameter_table(cls) -> dict:
+        """What a user law is made of, as the law table lists it: the expressions and the
+        tables of parameters, internal variables and their rates."""
+        from ._params import Parameter
+        return {"limit": Parameter("limit", "limit condition f (expression)", "", kind=str,
+                                   required=True),
+                "potential": Parameter("potential", "sliding potential g (expression; default f)",
+                                       "", kind=str, default=None),
+                "params": Parameter("params", "parameters of the expressions and their values",
+                                    "", kind=dict, default=None),
+                "state": Parameter("state", "internal variables and their virgin values", "",
+                                   kind=dict, default=None),
+                "rates": Parameter("rates", "evolution of each internal variable per unit "
+                                   "multiplier (4.5): an expression or \"slip\"", "", kind=dict,
+                                   default=None)}
+
+    @classmethod
+    def from_parameters(cls, **values) -> "UserLaw":
+        return cls.from_mapping(values, name="UserLaw")
+
+    def arguments(self) -> dict:
+        return self.to_mapping()
 
     @classmethod
     def from_mapping(cls, table, *, name: str = "law") -> "UserLaw":
@@ -260,13 +278,14 @@ class UserLaw(FrictionLaw):
             potential = "sqrt(T1**2 + T2**2) - psi*N"
             params = { mu = 0.5, psi = { value = 0.1, description = "dilatancy coefficient" } }
         """
+        keys = list(cls.parameter_table())
         if not hasattr(table, "keys"):
             raise FrictionRulesError(f"{name} = {table!r} violates: a table with the keys "
-                                     f"{', '.join(cls._KEYS)}")
-        unknown = sorted(set(table) - set(cls._KEYS))
+                                     f"{', '.join(keys)}")
+        unknown = sorted(set(table) - set(keys))
         if unknown:
             raise FrictionRulesError(f"{name} has the unknown keys {unknown}; constraint: keys in "
-                                     f"{list(cls._KEYS)}")
+                                     f"{keys}")
         if "limit" not in table:
             raise FrictionRulesError(f"{name} has no 'limit'; constraint: the limit condition f "
                                      "is required")

@@ -53,12 +53,8 @@ def limit_curve(law, Q: float = 1.0, ax=None, box: float = 4.0, potentials: bool
     color = {m: _COLORS[i % len(_COLORS)] for i, m in enumerate(mechs)}
     seen, drawn = set(), set()
     for lab, idx in _pieces(curve, box):
-        if isinstance(law, TwoFlankAsperity):
-            name = {"0": "flank 1", "1": "flank 2", "0+1": "both flanks"}[lab]
-        else:
-            name = f"facet{'s' if '+' in lab else ''} {lab}"
         ax.plot(*curve.T[idx].T, style, color=color[lab], lw=lw, alpha=alpha,
-                label=None if lab in seen else label_prefix + name)
+                label=None if lab in seen else label_prefix + law.mechanism_name(lab))
         mid = idx[len(idx) // 2]
         # one potential per mechanism (the two-facet one per sliding sense: g = +-Ty (2.15))
         key = (lab, tuple(np.sign(np.round(curve.velocity[mid], 9))) if "+" in lab else ())
