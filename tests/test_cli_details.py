@@ -90,13 +90,17 @@ def test_law_deg_prints_the_law_back_in_degrees(capsys):
     assert "alpha=0.5," in capsys.readouterr().out.splitlines()[0]     # radians stay radians
 
 
-def test_law_with_huge_forces_warns_nothing(capsys):
-    """T = (1e308, 1e308): |T| overflows the sum of the input check, not the law."""
+@pytest.mark.parametrize("law", [["coulomb", "--mu", "0.3"], ["huber", "--mu_1", "0.3", "--mu_2", "0.5"],
+                                 ["elliptic", "--mu_x", "0.3", "--mu_y", "0.5"],
+                                 ["transformed", "--mu_x", "0.3", "--mu_y", "0.5"]])
+def test_law_with_huge_forces_warns_nothing(capsys, law):
+    """T = (1e308, 1e308): |T| overflows the sum of the input check, and the squares of an
+    orthotropic law's |T|: no warning, a finite f or inf (past the largest float), never NaN."""
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        assert main(["law", "coulomb", "--mu", "0.3", "--force", "1e308", "1e308", "--normal",
-                     "1"]) == 0
-    assert "inadmissible" in capsys.readouterr().out
+        assert main(["law", *law, "--force", "1e308", "1e308", "--normal", "1"]) == 0
+    out = capsys.readouterr().out
+    assert "inadmissible" in out and "nan" not in out
     res = subprocess.run([sys.executable, "-W", "error", "-m", "frictionrules", "law", "coulomb",
                           "--mu", "0.3", "--force", "1e308", "1e308", "--normal", "1"],
                          capture_output=True, text=True)

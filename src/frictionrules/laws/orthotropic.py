@@ -86,7 +86,9 @@ class _EllipseLimit(_Orthotropic):
 
     def _rho(self, T):
         mx, my = self._m
-        return np.sqrt((T[..., 0] / mx) ** 2 + (T[..., 1] / my) ** 2)
+        # hypot: no overflow of the squares; a value past the largest float is inf (rounded)
+        with np.errstate(over="ignore"):
+            return np.hypot(T[..., 0] / mx, T[..., 1] / my)
 
     def limit(self, T, N, q=None):
         T, N = self._local(T, N)
@@ -206,12 +208,12 @@ class TransformedCoulomb(_EllipseLimit):
     def potential(self, T, N, q=None):
         T, N = self._local(T, N)
         mx, my = self._m
-        return np.sqrt(T[..., 0] ** 2 / mx + T[..., 1] ** 2 / my) + 0.0 * N
+        return np.hypot(T[..., 0] / np.sqrt(mx), T[..., 1] / np.sqrt(my)) + 0.0 * N
 
     def potential_gradient(self, T, N, q=None):
         T, N = self._local(T, N)
         mx, my = self._m
-        g = np.sqrt(T[..., 0] ** 2 / mx + T[..., 1] ** 2 / my)
+        g = np.hypot(T[..., 0] / np.sqrt(mx), T[..., 1] / np.sqrt(my))
         return self._global_gradient(safe_ratio(T[..., 0] / mx, g), safe_ratio(T[..., 1] / my, g),
                                      0.0 * N)
 
@@ -263,24 +265,25 @@ class Huber(_Orthotropic):
                          convex=max(m1, m2) <= 1.5 * min(m1, m2))
 
     def _mu_of_force(self, T):
+        """μ(β') of the force's direction and |T| (from the unit direction: no overflow of the
+        squares of a huge force)."""
         m1, m2 = self._m
-        rho2 = T[..., 0] ** 2 + T[..., 1] ** 2
-        mu = safe_ratio(m1 * T[..., 0] ** 2 + m2 * T[..., 1] ** 2, rho2)
-        return np.where(rho2 > 0, mu, min(m1, m2)), rho2
+        rho = np.hypot(T[..., 0], T[..., 1])
+        c, s = safe_ratio(T[..., 0], rho), safe_ratio(T[..., 1], rho)
+        return np.where(rho > 0, m1 * c * c + m2 * s * s, min(m1, m2)), rho
 
     def limit(self, T, N, q=None):
         T, N = self._local(T, N)
-        mu, rho2 = self._mu_of_force(T)
-        return np.sqrt(rho2) - mu * N
+        mu, rho = self._mu_of_force(T)
+        return rho - mu * N
 
     def limit_gradient(self, T, N, q=None):
         T, N = self._local(T, N)
         m1, m2 = self._m
-        mu, rho2 = self._mu_of_force(T)
-        rho = np.sqrt(rho2)
-        a, b = T[..., 0], T[..., 1]
-        k = safe_ratio(2.0 * N * (m1 - m2) * a * b, rho2**2)
-        return self._global_gradient(safe_ratio(a, rho) - k * b, safe_ratio(b, rho) + k * a, -mu)
+        mu, rho = self._mu_of_force(T)
+        a, b = safe_ratio(T[..., 0], rho), safe_ratio(T[..., 1], rho)
+        k = safe_ratio(2.0 * N * (m1 - m2) * a * b, rho)
+        return self._global_gradient(a - k * b, b + k * a, -mu)
 
     def potential(self, T, N, q=None):
         T, N = self._inputs(T, N)
