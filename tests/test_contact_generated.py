@@ -215,3 +215,19 @@ def test_compiled_entry_with_substeps_is_the_numpy_return(name, scales):
         np.testing.assert_allclose(res[:, RES_DISSIPATION], ref.dissipation, rtol=0,
                                    atol=1e-9 * F * scale)
         state = ref.state
+
+
+@pytest.mark.parametrize("compiled", [False, True])
+def test_kink_rule_is_one_on_every_path(compiled):
+    """The Huber ellipse f = |T| - N μ(θ) (1.16) written as a user law is 0/0 at T = 0. By
+    the one kink rule (frictionrules._returnspec: the largest f on a circle of radius
+    1e-9 (|T| + |N|) around T, here r - 0.3 N < 0) a pure compression is elastic, with and
+    without the compiled return, as for the built-in Huber law: force (0, 0, kn δ), tangent E."""
+    user = UserLaw("sqrt(T1**2+T2**2) - N*(0.3*T1**2+0.5*T2**2)/(T1**2+T2**2)",
+                   "sqrt(T1**2+T2**2)")
+    for law in (user, Huber(0.3, 0.5)):
+        model = ContactModel(law, kn=1, kt=1)
+        r = model.update(model.initial_state(), [0, 0, -0.1], tangent=True, compiled=compiled)
+        assert int(r.status) == 0
+        assert np.array_equal(r.force, [0.0, 0.0, 0.1])
+        assert np.array_equal(r.tangent, np.diag([1.0, 1.0, -1.0]))

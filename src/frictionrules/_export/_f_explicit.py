@@ -22,11 +22,11 @@ C force along (C, S) only (2-D). IOK = 0 where Newton fails.
          WK(K) = 0.0D0
     5 CONTINUE
       R = 1.0D0
-      DO 10 IT = 1, 200
+      DO 10 IT = 1, @SCALAR_MAX_ITER@
          CALL @P@EV(R*C, R*S, 1.0D0, Q, P, W, 1)
          PHI = W(1)
          DPHI = W(OFFDF + 1)*C + W(OFFDF + 2)*S
-         IF (ABS(PHI) .LE. 1.0D-15*(1.0D0 + R)) GO TO 20
+         IF (ABS(PHI) .LE. @SCALAR_TOL@*(1.0D0 + R)) GO TO 20
          IF (.NOT. (DPHI .GT. 0.0D0)) RETURN
          IF (R - PHI/DPHI .LE. 0.0D0) THEN
             R = 0.5D0*R
@@ -47,8 +47,8 @@ C     f = 0 and grad_T g parallel to (C, S): Newton with line search.
       R1 = W(1)*SC
       R2 = W(OFFDG + 1)*S - W(OFFDG + 2)*C
       AMER = SQRT(R1*R1 + R2*R2)
-      DO 50 IT = 1, 60
-         IF (AMER .LE. 1.0D-14) GO TO 60
+      DO 50 IT = 1, @MAX_ITER@
+         IF (AMER .LE. @TOL@) GO TO 60
          A11 = W(OFFDF + 1)*SC
          A12 = W(OFFDF + 2)*SC
          A21 = W(OFFHGG + 1)*S - W(OFFHGG + 4)*C
@@ -59,14 +59,14 @@ C     f = 0 and grad_T g parallel to (C, S): Newton with line search.
          D2 = -(A11*R2 - A21*R1)/DET
          ALPHA = 1.0D0
          ACCEPT = .FALSE.
-         DO 40 IH = 1, 30
+         DO 40 IH = 1, @MAX_HALVINGS@
             TK1 = T(1) + ALPHA*D1
             TK2 = T(2) + ALPHA*D2
             CALL @P@EV(TK1, TK2, 1.0D0, Q, P, WK, 2)
             R1 = WK(1)*SC
             R2 = WK(OFFDG + 1)*S - WK(OFFDG + 2)*C
             AMK = SQRT(R1*R1 + R2*R2)
-            IF (AMK .LE. (1.0D0 - 1.0D-4*ALPHA)*AMER) THEN
+            IF (AMK .LE. (1.0D0 - @SUFFICIENT_DECREASE@*ALPHA)*AMER) THEN
                T(1) = TK1
                T(2) = TK2
                AMER = AMK

@@ -32,12 +32,15 @@ from numba.extending import intrinsic
 
 from .layout import (LAW_CLIP, LAW_HAS_KAPPA, LAW_KAPPA, LAW_KN, LAW_KT, LAW_NQ, LAW_PARAMS,
                       RES_DISSIPATION, RES_DLAM, RES_FORCE, RES_SLIP, STATE_E, STATE_P, STATE_Q)
-from .integrate import MAX_HALVINGS as _MAX_HALVINGS
-from .integrate import MAX_ITER as _MAX_ITER
-from .integrate import TOL as _TOL
-from .state import ELASTIC as _ELASTIC
-from .state import OPEN as _OPEN
-from .state import PLASTIC as _PLASTIC
+from .._returnspec import ELASTIC as _ELASTIC
+from .._returnspec import KINK_POINTS as _KINK_POINTS
+from .._returnspec import KINK_RADIUS as _KINK_RADIUS
+from .._returnspec import MAX_HALVINGS as _MAX_HALVINGS
+from .._returnspec import MAX_ITER as _MAX_ITER
+from .._returnspec import OPEN as _OPEN
+from .._returnspec import PLASTIC as _PLASTIC
+from .._returnspec import SUFFICIENT_DECREASE as _SUFFICIENT_DECREASE
+from .._returnspec import TOL as _TOL
 
 _PTR = types.CPointer(types.float64)
 #: C signature of a law's local function ``(T1, T2, N, *q, *p, *w) -> 0`` (a Numba ``cfunc``).
@@ -74,8 +77,8 @@ def _layout(nq):
 def _eval(lf, l1, l2, clip, s0, s1, s2, q, p, w, level):
     """The law's quantities at (T1, T2, N, q) into ``w``, finite at kinks: a derivative that
     is not finite (0/0 at the apex of a cone) is written as 0, the minimal-norm subgradient, by
-    the generated function itself; a limit condition that is not finite there is its largest
-    value on a small circle around T."""
+    the generated function itself; a limit condition that is not finite there follows the kink
+    rule of :mod:`frictionrules._returnspec`."""
     n = max(s2, 0.0) if clip else s2
     if level == 0:
         _call_local(lf, s0, s1, n, q, p, w)
@@ -84,10 +87,10 @@ def _eval(lf, l1, l2, clip, s0, s1, s2, q, p, w, level):
     else:
         _call_local(l2, s0, s1, n, q, p, w)
     if not math.isfinite(w[0]):
-        r = 1e-9 * (math.sqrt(s0 * s0 + s1 * s1) + abs(n)) + 1e-300
+        r = _KINK_RADIUS * (math.sqrt(s0 * s0 + s1 * s1) + abs(n)) + 1e-300
         best = -np.inf
-        for j in range(8):
-            a = 0.25 * math.pi * j
+        for j in range(_KINK_POINTS):
+            a = (2.0 * math.pi / _KINK_POINTS) * j
             _call_local(lf, s0 + r * math.cos(a), s1 + r * math.sin(a), n, q, p, w)
             if w[0] > best:
                 best = w[0]
@@ -275,7 +278,7 @@ def _return(lf, l1, l2, clip, sig_tr, qn, p, dv, V, w, wk, J, piv):
                 xk[a] = x[a] + alpha * step[a]
             _eval(lf, l1, l2, clip, xk[0], xk[1], xk[2], xk[3:3 + NQ], p, wk, 1)
             mk = _residual(wk, xk, sig_tr, qn, dv, rows, Rk)
-            if math.isfinite(mk) and mk <= (1.0 - 1e-4 * alpha) * merit:
+            if math.isfinite(mk) and mk <= (1.0 - _SUFFICIENT_DECREASE * alpha) * merit:
                 for a in range(_M):
                     x[a] = xk[a]
                     R[a] = Rk[a]
