@@ -53,17 +53,14 @@ C     Open at the previous increment: nothing to do.
    20 CONTINUE
       E(1) = STATEV(NQ + 1)
       E(2) = STATEV(NQ + 2)
+C     2-D (NFDIR = 1): no relative motion out of the plane; the
+C     out-of-plane elastic slip E(2) is state, its force a reaction.
       DG(1) = DGAM(1)
       DG(2) = 0.0D0
+      IF (NFDIR .EQ. 2) DG(2) = DGAM(2)
       DV(1) = AKT
-      DV(2) = 0.0D0
+      DV(2) = AKT
       DV(3) = 0.0D0
-      IF (NFDIR .EQ. 2) THEN
-         DG(2) = DGAM(2)
-         DV(2) = AKT
-      ELSE
-         E(2) = 0.0D0
-      END IF
       DO 30 I = 1, NFDIR
          TAU(I) = 0.0D0
          DDTDDP(I) = 0.0D0
@@ -219,17 +216,14 @@ C
          Q(J) = STATEV(J) + Q0(J)
    30 CONTINUE
 C     (dt1, dt2, dn) with dn positive on opening; RDISP(1) is the
-C     overclosure.
+C     overclosure; 2-D (NDIR = 2): no relative motion out of the plane.
       DU(1) = DRDISP(2)
       DU(2) = 0.0D0
+      IF (NDIR .EQ. 3) DU(2) = DRDISP(3)
       DU(3) = -DRDISP(1)
       DV(1) = AKT
-      DV(2) = 0.0D0
+      DV(2) = AKT
       DV(3) = AKN
-      IF (NDIR .EQ. 3) THEN
-         DU(2) = DRDISP(3)
-         DV(2) = AKT
-      END IF
       EK(1) = AKT
       EK(2) = AKT
       EK(3) = -AKN
