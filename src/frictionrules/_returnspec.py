@@ -21,7 +21,8 @@ from __future__ import annotations
 
 __all__ = ["TOL", "MAX_ITER", "MAX_HALVINGS", "SUFFICIENT_DECREASE", "MAX_SUBSTEP_DEPTH",
            "KINK_RADIUS", "KINK_POINTS", "SCALAR_TOL", "SCALAR_MAX_ITER", "ELASTIC", "PLASTIC",
-           "OPEN", "APEX", "FAILED", "kink_circle", "placeholders"]
+           "OPEN", "APEX", "FAILED", "RETURN_GENERIC", "RETURN_RADIAL", "RETURN_ELLIPTIC", "RETURN_SIZE",
+           "kink_circle", "placeholders"]
 
 #: Newton tolerance on the dimensionless residual: a few hundred ulps of the force scale, far
 #: below any physical tolerance and reached in one or two quadratic steps from 1e-7.
@@ -49,6 +50,16 @@ KINK_POINTS = 8
 SCALAR_TOL = 1e-15
 #: Iterations of such a scalar Newton iteration (halvings of a step included).
 SCALAR_MAX_ITER = 200
+
+#: How a law's return is solved (:func:`frictionrules.codegen.return_structure`, recognised from
+#: its symbolic form): Newton's method on the whole system (any law); the radial return along a
+#: flow direction that does not turn (one scalar equation, closed form where f is linear along
+#: it); the elliptic section's one scalar equation. The two special ones fall back to the
+#: general return where their assumptions fail at a contact (a path through the apex, N < 0).
+RETURN_GENERIC, RETURN_RADIAL, RETURN_ELLIPTIC = 0, 1, 2
+#: Numbers of a law's return block: kind, linear flag, cos and sin of the principal frame and
+#: the eigenvalues of A, and the ratio c of the elliptic return.
+RETURN_SIZE = 7
 
 #: Status codes of an update, per contact (``frictionrules.contact.state``).
 ELASTIC, PLASTIC, OPEN = 0, 1, 2

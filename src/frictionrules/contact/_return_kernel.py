@@ -31,7 +31,8 @@ from numba import njit, types
 from numba.extending import intrinsic
 
 from .layout import (LAW_CLIP, LAW_HAS_KAPPA, LAW_KAPPA, LAW_KN, LAW_KT, LAW_NQ, LAW_PARAMS,
-                      RES_DISSIPATION, RES_DLAM, RES_FORCE, RES_SLIP, STATE_E, STATE_P, STATE_Q)
+                     RES_DISSIPATION, RES_DLAM, RES_FORCE, RES_SLIP, RET_ALPHA1, RET_ALPHA2, RET_C,
+                     RET_COS, RET_KIND, RET_LINEAR, RET_SIN, STATE_E, STATE_P, STATE_Q)
 from .._returnspec import ELASTIC as _ELASTIC
 from .._returnspec import KINK_POINTS as _KINK_POINTS
 from .._returnspec import KINK_RADIUS as _KINK_RADIUS
@@ -39,6 +40,10 @@ from .._returnspec import MAX_HALVINGS as _MAX_HALVINGS
 from .._returnspec import MAX_ITER as _MAX_ITER
 from .._returnspec import OPEN as _OPEN
 from .._returnspec import PLASTIC as _PLASTIC
+from .._returnspec import RETURN_ELLIPTIC as _RETURN_ELLIPTIC
+from .._returnspec import RETURN_RADIAL as _RETURN_RADIAL
+from .._returnspec import SCALAR_MAX_ITER as _SCALAR_MAX_ITER
+from .._returnspec import SCALAR_TOL as _SCALAR_TOL
 from .._returnspec import SUFFICIENT_DECREASE as _SUFFICIENT_DECREASE
 from .._returnspec import TOL as _TOL
 
@@ -216,7 +221,7 @@ def _first_step(w, R, rows, dv, step):
     return True
 
 
-@njit(inline="always", error_model="numpy", _nrt=False)
+@njit(error_model="numpy", _nrt=False)
 def _return(lf, l1, l2, clip, sig_tr, qn, p, dv, V, w, wk, J, piv):
     """Newton return of ``sig_tr`` onto f = 0 from ``x = (σ_tr, q_n, 0)``; True if converged.
     On entry ``w`` holds the law's first-level quantities at the trial.
@@ -292,6 +297,86 @@ def _return(lf, l1, l2, clip, sig_tr, qn, p, dv, V, w, wk, J, piv):
         if not accepted:
             return False
     return merit <= _TOL and x[_M - 1] >= 0.0
+
+
+@njit(inline="always", error_model="numpy", _nrt=False)
+def _radial(lf, l1, clip, law, sig_tr, qn, p, dv, w, wk, x):
+    """The radial return (:mod:`frictionrules.codegen._structure`): along the flow direction
+    ``v = (-D∇g, h)`` of the trial, which does not turn, ``x = x_tr + Δλ v`` with
+    ``f(x) = 0`` — in closed form where f is linear along it, else by Newton's iteration on
+    that one scalar equation. On entry ``w`` holds the first-level quantities at the trial.
+    Writes ``x = (σ, q, Δλ)``; False where the path leaves the smooth part of the cone (T
+    reverses, N <= 0) or the iteration fails: the general return takes over."""
+    NQ = qn.shape[0]
+    OFF_DF, OFF_DFQ, OFF_DG, OFF_HGG, OFF_HGQ, OFF_H, OFF_DHS, OFF_DHQ, SIZE = _layout(NQ)
+    v0, v1, v2 = -dv[0] * w[OFF_DG], -dv[1] * w[OFF_DG + 1], -dv[2] * w[OFF_DG + 2]
+    slope = w[OFF_DF] * v0 + w[OFF_DF + 1] * v1 + w[OFF_DF + 2] * v2
+    for j in range(NQ):
+        slope += w[OFF_DFQ + j] * w[OFF_H + j]
+    if not slope < 0.0:
+        return False
+    lam = -w[0] / slope
+    if law[RET_LINEAR] == 0.0:
+        fs = math.sqrt(w[OFF_DF] ** 2 + w[OFF_DF + 1] ** 2 + w[OFF_DF + 2] ** 2) * math.sqrt(
+            sig_tr[0] ** 2 + sig_tr[1] ** 2 + sig_tr[2] ** 2)
+        for it in range(_SCALAR_MAX_ITER + 1):
+            if it == _SCALAR_MAX_ITER or not (lam >= 0.0):
+                return False
+            for j in range(NQ):
+                x[3 + j] = qn[j] + lam * w[OFF_H + j]
+            _eval(lf, l1, l1, clip, sig_tr[0] + lam * v0, sig_tr[1] + lam * v1,
+                  sig_tr[2] + lam * v2, x[3:3 + NQ], p, wk, 1)
+            if abs(wk[0]) <= _TOL * fs:
+                break
+            d = wk[OFF_DF] * v0 + wk[OFF_DF + 1] * v1 + wk[OFF_DF + 2] * v2
+            for j in range(NQ):
+                d += wk[OFF_DFQ + j] * w[OFF_H + j]
+            if not d < 0.0:
+                return False
+            lam -= wk[0] / d
+    x[0] = sig_tr[0] + lam * v0
+    x[1] = sig_tr[1] + lam * v1
+    x[2] = sig_tr[2] + lam * v2
+    for j in range(NQ):
+        x[3 + j] = qn[j] + lam * w[OFF_H + j]
+    x[3 + NQ] = lam
+    return lam >= 0.0 and x[2] > 0.0 and x[0] * sig_tr[0] + x[1] * sig_tr[1] > 0.0
+
+
+@njit(inline="always", error_model="numpy", _nrt=False)
+def _elliptic(law, sig_tr, kt, f_tr, x):
+    """The elliptic return (:mod:`frictionrules.codegen._structure`): in the principal frame
+    ``(c, s)`` of ``g² = TᵀAT`` (eigenvalues α1, α2), ``T'_i = a_i/(1 + x α_i)``, N kept, and
+    ``Σ α_i a_i²/(1 + x α_i)² = R²``, ``R = g_tr - f_tr/c``, convex and decreasing in
+    ``x = kt Δλ/g``: Newton from 0 converges monotonically. Writes ``x = (σ, Δλ)``; False
+    where R <= 0 (a return through the apex: the general return takes over)."""
+    c, s = law[RET_COS], law[RET_SIN]
+    al1, al2 = law[RET_ALPHA1], law[RET_ALPHA2]
+    a1 = c * sig_tr[0] + s * sig_tr[1]
+    a2 = -s * sig_tr[0] + c * sig_tr[1]
+    r = math.sqrt(al1 * a1 * a1 + al2 * a2 * a2) - f_tr / law[RET_C]
+    if not r > 0.0:
+        return False
+    r2 = r * r
+    y = 0.0
+    for it in range(_SCALAR_MAX_ITER + 1):
+        if it == _SCALAR_MAX_ITER:
+            return False
+        d1 = 1.0 + y * al1
+        d2 = 1.0 + y * al2
+        q1 = al1 * a1 * a1 / (d1 * d1)
+        q2 = al2 * a2 * a2 / (d2 * d2)
+        dy = (q1 + q2 - r2) / (2.0 * (q1 * al1 / d1 + q2 * al2 / d2))
+        y += dy
+        if dy <= _SCALAR_TOL * y:
+            break
+    b1 = a1 / (1.0 + y * al1)
+    b2 = a2 / (1.0 + y * al2)
+    x[0] = c * b1 - s * b2
+    x[1] = s * b1 + c * b2
+    x[2] = sig_tr[2]
+    x[3] = y * r / kt
+    return True
 
 
 @njit(error_model="numpy", _nrt=False)
@@ -399,6 +484,7 @@ def _attempt(fn, law, s, du, s1, res, ws, want_tangent, tan):
     lf, l1, l2 = fn[0], fn[1], fn[2]
     kt, kn = law[LAW_KT], law[LAW_KN]
     clip = law[LAW_CLIP] != 0.0
+    kind_r = int(law[RET_KIND])
     NQ = int(law[LAW_NQ])
     _M = 4 + NQ
     p = law[LAW_PARAMS:]
@@ -428,11 +514,13 @@ def _attempt(fn, law, s, du, s1, res, ws, want_tangent, tan):
         if w[0] <= 0.0:
             kind = _ELASTIC
             s0, sv1, s2 = sig_tr[0], sig_tr[1], sig_tr[2]
-        elif _return(lf, l1, l2, clip, sig_tr, qn, p, dv, V, w, wk, J, piv):
+        elif ((kind_r == _RETURN_RADIAL and _radial(lf, l1, clip, law, sig_tr, qn, p, dv, w, wk, x))
+              or (kind_r == _RETURN_ELLIPTIC and _elliptic(law, sig_tr, kt, w[0], x))
+              or _return(lf, l1, l2, clip, sig_tr, qn, p, dv, V, w, wk, J, piv)):
             s0, sv1, s2 = x[0], x[1], x[2]
             dlam = x[_M - 1]
-            ntr = math.sqrt(sig_tr[0] ** 2 + sig_tr[1] ** 2 + sig_tr[2] ** 2)
-            if s2 < 0.0 or math.sqrt(s0 * s0 + sv1 * sv1 + s2 * s2) <= _TOL * ntr:
+            ntr2 = sig_tr[0] ** 2 + sig_tr[1] ** 2 + sig_tr[2] ** 2
+            if s2 < 0.0 or s0 * s0 + sv1 * sv1 + s2 * s2 <= _TOL * _TOL * ntr2:
                 apex = True
             else:
                 kind = _PLASTIC

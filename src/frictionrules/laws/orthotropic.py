@@ -125,7 +125,7 @@ class EllipticOrthotropic(_EllipseLimit):
     mu_x: float
     mu_y: float
     angle: float = 0.0
-    capabilities = frozenset({"symbolic", "cone", "closed_form_return"})
+    capabilities = frozenset({"symbolic", "cone"})
 
     @property
     def tangentially_associated(self) -> bool:
@@ -143,11 +143,6 @@ class EllipticOrthotropic(_EllipseLimit):
     def cone(self, q=None) -> Cone:
         """The elliptic cone (1.9) with tangential normality and no normal slip."""
         return Cone(self.mu_x, self.mu_y, self.angle, 0.0)
-
-    def closed_form_return(self):
-        """The closest-point return of the compiled elliptic kernel."""
-        from ._records import ClosedFormReturn
-        return ClosedFormReturn("elliptic", (self.mu_x, self.mu_y, self.angle))
 
     def slip_direction(self, T, N, q=None):
         r"""(1.10) normalized: the factor 1/rho of the gradient cancels, so the slip is the unit
