@@ -132,7 +132,7 @@ class EllipticOrthotropic(_EllipseLimit):
     mu_x: float = _coefficient("1")
     mu_y: float = _coefficient("2")
     angle: float = _ANGLE
-    capabilities = frozenset({"symbolic", "cone", "closed_form_return"})
+    capabilities = frozenset({"symbolic", "cone"})
 
     def declared_traits(self) -> LawTraits:
         """An elliptic cone with in-plane normality and no normal slip."""
@@ -151,11 +151,6 @@ class EllipticOrthotropic(_EllipseLimit):
     def cone(self, q=None) -> Cone:
         """The elliptic cone (1.9) with tangential normality and no normal slip."""
         return Cone(self.mu_x, self.mu_y, self.angle, 0.0)
-
-    def closed_form_return(self):
-        """The closest-point return of the compiled elliptic kernel."""
-        from ._records import ClosedFormReturn
-        return ClosedFormReturn("elliptic", (self.mu_x, self.mu_y, self.angle))
 
     def slip_direction(self, T, N, q=None):
         r"""(1.10) normalized: the factor 1/rho of the gradient cancels, so the slip is the unit
