@@ -29,15 +29,8 @@ AUTO_PROBE = 50
 #: Modes of :func:`small_solve`, and the stages ``auto`` may run.
 MODES = {"nsgs": 0, "polish": 1, "auto": 2}
 STAGES = ("nsgs", "polish")
-#: The polish schedule of ``auto`` and ``nsgs`` on this path.
+#: The polish schedule of ``auto`` on this path.
 POLISH_DEFAULTS = PolishOptions()
-
-
-def r_bound(problem) -> float:
-    """The reactions' bound of :data:`._frame.UNBOUNDED` for this problem."""
-    diag = np.abs(problem.W.diagonal())
-    mean_diag = float(np.mean(diag[diag > 0])) if np.any(diag > 0) else 1.0
-    return UNBOUNDED * max(float(np.linalg.norm(problem.q)), np.finfo(float).tiny) / mean_diag
 
 
 @njit(cache=True)
@@ -62,6 +55,8 @@ def _polish(indptr, indices, data, q, mu, dil, r, tol, max_iter, norm_q, hist_er
         tr = abs(D[a, 0, 0] + D[a, 1, 1] + D[a, 2, 2]) / 3.0
         rho[a] = 1.0 / tr if tr > 0.0 else 1.0
     err, u = _error(indptr, indices, data, q, mu, dil, r, norm_q)
+    if max_iter <= 0 or err <= tol:
+        return 0, err, nh
     J = np.empty((n, n))
     slow = 0
     it = 0
@@ -99,48 +94,82 @@ def _polish(indptr, indices, data, q, mu, dil, r, tol, max_iter, norm_q, hist_er
     return it, err, nh
 
 
+#: Sweeps per compiled chunk of the small path (its history buffer).
+CHUNK = 256
+
+
 @njit(cache=True)
-def small_solve(indptr, indices, data, q, mu, dil, r, tol, max_iter, mode, contraction, patience, max_halvings):
+def _grow(h_err, h_it, nh, extra):
+    """History buffers with room for ``extra`` more entries after the first ``nh``."""
+    if nh + extra <= h_err.size:
+        return h_err, h_it
+    size = max(2 * h_err.size, nh + extra)
+    e, i = np.empty(size), np.empty(size, dtype=np.int64)
+    e[:nh], i[:nh] = h_err[:nh], h_it[:nh]
+    return e, i
+
+
+@njit(cache=True)
+def _sweeps(indptr, indices, data, D, q, mu, dil, r, tol, budget, norm_q, h_err, h_it, nh, offset):
+    """NSGS in chunks of :data:`CHUNK` sweeps; returns ``(sweeps, error, h_err, h_it, nh)``."""
+    done, err = 0, np.inf
+    while done < budget:
+        n = min(CHUNK, budget - done)
+        h_err, h_it = _grow(h_err, h_it, nh, n)
+        it, err, k = K.nsgs(indptr, indices, data, D, q, mu, dil, r, tol, n, h_err[nh:], h_it[nh:], norm_q, 16)
+        for j in range(nh, nh + k):
+            h_it[j] += offset + done
+        nh += k
+        done += it
+        if err <= tol:
+            break
+    return done, err, h_err, h_it, nh
+
+
+@njit(cache=True)
+def small_solve(indptr, indices, data, q, mu, dil, r, tol, max_iter, mode, contraction, patience, max_halvings,
+                r_bound_factor):
     """Solve in place from ``r``: mode 0 nsgs, 1 polish, 2 auto (see the module docstring).
 
-    Returns ``(iterations, error, history errors, history iterations, stages)``; ``stages`` is
-    the sequence of stages run (0 nsgs, 1 polish), -1 after the last.
+    Returns ``(iterations, error, u, bounded, history errors, history iterations, stages)``;
+    ``stages`` is the sequence of stages run (0 nsgs, 1 polish), -1 after the last; ``bounded``
+    whether the reactions are within ``r_bound_factor`` times |q| over the mean |W_ii|.
     """
     nc = mu.size
     norm_q = np.sqrt(np.sum(q * q))
-    hist_err = np.empty(max_iter + 4)
-    hist_it = np.empty(max_iter + 4, dtype=np.int64)
+    h_err = np.empty(CHUNK + 4)
+    h_it = np.empty(CHUNK + 4, dtype=np.int64)
     stages = np.full(4, -1, dtype=np.int64)
     D = K.diagonal_blocks(indptr, indices, data, nc)
     nh, done, err = 0, 0, np.inf
-    if mode == 0:
-        done, err, nh = K.nsgs(indptr, indices, data, D, q, mu, dil, r, tol, max_iter, hist_err, hist_it, norm_q, 16)
-        stages[0] = 0
-        return done, err, hist_err[:nh], hist_it[:nh], stages
-    if mode == 1:
-        done, err, nh = _polish(indptr, indices, data, q, mu, dil, r, tol, max_iter, norm_q, hist_err, hist_it, 0, 0,
-                                contraction, patience, max_halvings)
-        if nh == 0:
-            hist_err[0], hist_it[0], nh = err, 0, 1
-        stages[0] = 1
-        return done, err, hist_err[:nh], hist_it[:nh], stages
     ns = 0
-    budget = min(AUTO_PROBE, max_iter)
-    for stage in range(4):
-        if stage % 2 == 0:
-            it, err, k = K.nsgs(indptr, indices, data, D, q, mu, dil, r, tol, budget, hist_err[nh:], hist_it[nh:],
-                                norm_q, 16)
-            for j in range(nh, nh + k):
-                hist_it[j] += done
+    budget = max_iter if mode != 2 else min(AUTO_PROBE, max_iter)
+    stage = 0 if mode != 1 else 1
+    while ns < 4:
+        if stage == 0:
+            it, err, h_err, h_it, nh = _sweeps(indptr, indices, data, D, q, mu, dil, r, tol, budget, norm_q,
+                                               h_err, h_it, nh, done)
         else:
-            it, err, k = _polish(indptr, indices, data, q, mu, dil, r, tol, budget, norm_q, hist_err, hist_it, nh,
+            h_err, h_it = _grow(h_err, h_it, nh, budget)
+            it, err, k = _polish(indptr, indices, data, q, mu, dil, r, tol, budget, norm_q, h_err, h_it, nh,
                                  done, contraction, patience, max_halvings)
-            k -= nh
-        stages[ns] = stage % 2
+            if k == nh:                     # no step taken: the error of r as it is
+                h_err[nh], h_it[nh], k = err, done, nh + 1
+            nh = k
+        stages[ns] = stage
         ns += 1
-        nh += k
         done += it
         budget = max_iter - done
-        if err <= tol or budget <= 0:
+        if mode != 2 or err <= tol or budget <= 0:
             break
-    return done, err, hist_err[:nh], hist_it[:nh], stages
+        stage = 1 - stage
+    err, u = _error(indptr, indices, data, q, mu, dil, r, norm_q)
+    mean_diag, count = 0.0, 0
+    for a in range(nc):
+        for l in range(3):
+            if D[a, l, l] != 0.0:
+                mean_diag += abs(D[a, l, l])
+                count += 1
+    mean_diag = mean_diag / count if count else 1.0
+    bounded = np.sqrt(np.sum(r * r)) <= r_bound_factor * max(norm_q, 1e-300) / mean_diag
+    return done, err, u, bounded, h_err[:nh], h_it[:nh], stages
