@@ -36,9 +36,10 @@ from .problem import FrictionContactProblem, Solution
 
 __all__ = ["solve", "METHODS"]
 
-#: ``"auto"`` (docs/multicontact.md, "Choosing a method", has the measurements): first at most
-#: ``_AUTO_PROBE`` NSGS sweeps (they cost O(nnz(W)) each and solve the easy problems: CubeH8,
-#: the LMGC cube, PerioBox and Box_Stacks in 1-34 sweeps). Then, up to ``_AUTO_PROX_MAX``
+#: ``"auto"`` (docs/multicontact.md, "Choosing a method", has the measurements): first
+#: ``_AUTO_PROBE_FIRST`` NSGS sweeps, and more (up to ``_AUTO_PROBE`` in all) when their linear
+#: rate predicts the tolerance within them (sweeps cost O(nnz(W)) each and solve the easy
+#: problems: CubeH8, the LMGC cube, PerioBox and Box_Stacks in 1-34 sweeps). Then, up to ``_AUTO_PROX_MAX``
 #: contacts, ADMM to each error of ``_AUTO_ADMM_LEVELS`` (at most ``_AUTO_ADMM_BUDGET``
 #: iterations in all), the polish after each: from an ADMM iterate at 1e-4-1e-6 one to three
 #: Newton steps reach 1e-15 on KaplasTower, Spheres, Box_Stacks and local_problem_test. Where
@@ -50,9 +51,21 @@ __all__ = ["solve", "METHODS"]
 #: prox and newton did not reach 1e-4 within 60 s, ADMM needed more iterations than NSGS
 #: sweeps, each 5-10 times dearer), the polish trying whenever the sweeps' error has fallen
 #: by ``_AUTO_POLISH_STEP`` since its last try (first at ``_AUTO_POLISH_FROM``).
-_AUTO_PROBE, _AUTO_PROX_MAX = 50, 1000
+_AUTO_PROBE, _AUTO_PROBE_FIRST, _AUTO_PROX_MAX = 50, 10, 1000
 _AUTO_ADMM_LEVELS, _AUTO_ADMM_BUDGET = (1e-4, 1e-6), 400
 _AUTO_POLISH_FROM, _AUTO_POLISH_STEP = 1e-6, 1e-2
+
+
+#: The compiled small-problem path (:mod:`._small`, imported with Numba on first use): problems
+#: of at most SMALL_MAX contacts, with these methods, no callback and no time limit.
+SMALL_MAX, SMALL_MODES = 16, ("nsgs", "polish", "auto")
+
+
+@functools.cache
+def _small_path():
+    from . import _small
+    assert _small.SMALL_MAX == SMALL_MAX and tuple(_small.MODES) == SMALL_MODES
+    return _small
 
 
 def _initial(problem, fr: _Frame, r0):
@@ -148,10 +161,10 @@ def solve(problem: FrictionContactProblem, method: str = "auto", tol: float = 1e
     tol, max_iter, time_limit, blas_threads, opts = _check(problem, method, tol, max_iter, time_limit,
                                                            blas_threads, callback, options)
     t0, c0 = time.perf_counter(), time.thread_time()
-    from . import _small
-    if (problem.nc <= _small.SMALL_MAX and method in _small.MODES and problem.frames is None
+    if (problem.nc <= SMALL_MAX and method in SMALL_MODES and problem.frames is None
             and callback is None and time_limit is None):
-        r, u, err, it, hist, hist_it, ran, reason = _solve_small(problem, method, tol, max_iter, r0, opts, _small)
+        r, u, err, it, hist, hist_it, ran, reason = _solve_small(problem, method, tol, max_iter, r0, opts,
+                                                                 _small_path())
         if reason == "converged" or method != "auto":
             return Solution(r=r, u=u, error=err, iterations=it, converged=reason == "converged", history=hist,
                             history_iterations=hist_it, method=ran, seconds=time.perf_counter() - t0,
@@ -218,6 +231,14 @@ def _stage(method, fr, r, tol, budget, mon, total):
     return _run(method, fr, r, budget, mon, options_for(method, None))
 
 
+def _predicted_sweeps(mon, tol) -> float:
+    """Sweeps still needed to ``tol`` at the linear rate of the last two evaluated errors."""
+    e, k = mon.errors[-2:], mon.iterations[-2:]
+    if len(e) < 2 or not 0.0 < e[1] < e[0] or k[1] <= k[0]:
+        return np.inf
+    return np.log(tol / e[1]) / (np.log(e[1] / e[0]) / (k[1] - k[0]))
+
+
 def _run_auto(fr, r, tol, max_iter, mon):
     """The stages of ``"auto"`` (see the module constants), each from the last one's answer;
     returns ``(r, iterations, "stage+stage...")``."""
@@ -239,10 +260,16 @@ def _run_auto(fr, r, tol, max_iter, mon):
         better = fr.error(r_new) < fr.error(r)
         return (r_new if better else r), stop
 
-    r, stop = run("nsgs", r, tol, _AUTO_PROBE)
+    r, stop = run("nsgs", r, tol, _AUTO_PROBE_FIRST)
+    while not stop and mon.reason != "converged":
+        more = _predicted_sweeps(mon, tol)
+        if more > _AUTO_PROBE - total:
+            break
+        r, stop = run("nsgs", r, tol, min(int(1.5 * more) + 2, _AUTO_PROBE - total))
     if not stop and fr.nc <= _AUTO_PROX_MAX:
         spent = total
-        for level in _AUTO_ADMM_LEVELS:
+        r = start.copy()                    # ADMM from the probe's answer took 35 iterations on
+        for level in _AUTO_ADMM_LEVELS:     # KaplasTower, from zero 15
             r, stop = run("admm", r, max(tol, level), _AUTO_ADMM_BUDGET - (total - spent))
             if stop or mon.reason != "converged":
                 break
