@@ -167,6 +167,9 @@ def main(argv=None) -> int:
     ap.add_argument("--time-limit", type=float, default=20.0, help="seconds per run of ours (default 20)")
     ap.add_argument("--peer-limit", type=float, default=30.0, help="seconds before a peer is killed (default 30)")
     ap.add_argument("--figures", action="store_true", help="also draw the profiles and scaling figures")
+    ap.add_argument("--reuse-peers", metavar="CSV",
+                    help="take the peers' rows from an earlier run's CSV instead of running them again "
+                         "(their times are CPU times of one thread: the load of that run matters little)")
     ap.add_argument("--out", default=str(ROOT / "benchmarks" / "results" / "fclib.csv"))
     ap.add_argument("--worker", nargs=3, help=argparse.SUPPRESS)
     ap.add_argument("--per-iteration", help=argparse.SUPPRESS)
@@ -196,6 +199,14 @@ def main(argv=None) -> int:
         if not pin:
             print("Pinocchio is not found (python3 -m venv pin && pin/bin/pip install pin scipy; then "
                   "--pinocchio-python pin/bin/python): its columns are left out.")
+    earlier = {}
+    if args.reuse_peers:
+        import csv
+        with open(args.reuse_peers, encoding="utf-8") as fh:
+            for row in csv.DictReader(line for line in fh if not line.startswith("#")):
+                if row["solver"] not in OURS:
+                    earlier.setdefault((row["file"], float(row["target"])), []).append(row)
+        sic = pin = None
     load_start = _load()
     print(f"start: {load_start}")
     rows = [HEADER]
@@ -224,6 +235,11 @@ def main(argv=None) -> int:
             for target in TARGETS:
                 for res in peer_rows(problem, data, tmp, target, args.peer_limit, sic, pin):
                     emit(f, problem, target, res)
+                for row in earlier.get((f.name, target), []):
+                    rows.append(",".join(row[k] for k in HEADER.split(",")))
+                    print(f"{f.stem[:40]:40s} {problem.nc:5d} {target:7.0e} {row['solver']:>17s} "
+                          f"{row['iterations']:>7s} {float(row['error']):9.2e} {float(row['cpu_median']):9.5f}"
+                          "  (from --reuse-peers)")
                 for m in OURS:
                     res = dict(mine[m].get(f"{target:.0e}", {"info": "crash", "times": [np.inf]}),
                                solver=m, peak_mb=mine[m].get("peak_mb", np.nan))
