@@ -7,6 +7,7 @@ limit and its one-line summary (the CLI's help).
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from typing import Callable
 
@@ -73,6 +74,12 @@ def check_method(method) -> SolverMethod:
     return METHODS[method]
 
 
+@functools.cache
+def _defaults(cls):
+    """The default record of an options class (records are frozen: one instance serves all)."""
+    return cls()
+
+
 def options_for(method: str, options):
     """``options`` checked against ``method`` (the method's defaults when None)."""
     cls = METHODS[method].options
@@ -81,7 +88,7 @@ def options_for(method: str, options):
             raise FrictionRulesError(f"options: constraint: none with method = {method!r} (name a method)")
         return None
     if options is None:
-        return cls()
+        return _defaults(cls)
     if not isinstance(options, cls):
         raise FrictionRulesError(f"options = {options!r} does not match method = {method!r}; "
                                  f"constraint: a {cls.__name__}")

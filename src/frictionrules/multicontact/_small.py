@@ -13,6 +13,8 @@ the polish, then sweeps to the end of its budget and the polish again.
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from .._optional import require
@@ -132,14 +134,14 @@ def small_solve(indptr, indices, data, q, mu, dil, r, tol, max_iter, mode, contr
     """Solve in place from ``r``: mode 0 nsgs, 1 polish, 2 auto (see the module docstring).
 
     Returns ``(iterations, error, u, bounded, history errors, history iterations, stages)``;
-    ``stages`` is the sequence of stages run (0 nsgs, 1 polish), -1 after the last; ``bounded``
+    ``stages`` is the number of stages run (they alternate from nsgs, or are one polish in
+    mode 1: see :func:`stage_names`); ``bounded``
     whether the reactions are within ``r_bound_factor`` times |q| over the mean |W_ii|.
     """
     nc = mu.size
     norm_q = np.sqrt(np.sum(q * q))
     h_err = np.empty(CHUNK + 4)
     h_it = np.empty(CHUNK + 4, dtype=np.int64)
-    stages = np.full(4, -1, dtype=np.int64)
     D = K.diagonal_blocks(indptr, indices, data, nc)
     nh, done, err = 0, 0, np.inf
     ns = 0
@@ -156,7 +158,6 @@ def small_solve(indptr, indices, data, q, mu, dil, r, tol, max_iter, mode, contr
             if k == nh:                     # no step taken: the error of r as it is
                 h_err[nh], h_it[nh], k = err, done, nh + 1
             nh = k
-        stages[ns] = stage
         ns += 1
         done += it
         budget = max_iter - done
@@ -172,4 +173,12 @@ def small_solve(indptr, indices, data, q, mu, dil, r, tol, max_iter, mode, contr
                 count += 1
     mean_diag = mean_diag / count if count else 1.0
     bounded = np.sqrt(np.sum(r * r)) <= r_bound_factor * max(norm_q, 1e-300) / mean_diag
-    return done, err, u, bounded, h_err[:nh], h_it[:nh], stages
+    return done, err, u, bounded, h_err[:nh], h_it[:nh], ns
+
+
+@functools.cache
+def stage_names(mode: int, count: int) -> str:
+    """``Solution.method`` of a small-path run: ``count`` stages of ``mode``."""
+    if mode == MODES["polish"]:
+        return "polish"
+    return "+".join(STAGES[k % 2] for k in range(count))

@@ -211,8 +211,7 @@ def _solve_small(problem, method, tol, max_iter, r0, opts, small):
         reason = "converged"
     else:
         reason = "stalled" if method == "polish" and it < max_iter else "max_iter"
-    ran = "+".join([small.STAGES[s] for s in stages if s >= 0])
-    return r, u, err, it, hist, hist_it, ran, reason
+    return r, u, err, it, hist, hist_it, small.stage_names(small.MODES[method], stages), reason
 
 
 def _run(method, fr, r, max_iter, mon, opts):
