@@ -250,7 +250,8 @@ def _run_auto(fr, r, tol, max_iter, mon):
             return r, True
         r, it = _stage(method, fr, r, stage_tol, budget, mon, total)
         total += it
-        ran.append(method)
+        if not ran or ran[-1] != method:    # the probe's extensions are one NSGS stage
+            ran.append(method)
         stop = mon.reason in ("time_limit", "callback", "unbounded") or (mon.reason == "converged" and stage_tol <= tol)
         return r, stop
 
