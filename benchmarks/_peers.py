@@ -4,8 +4,10 @@ own Python on the same W, q, mu, its answer read back and measured with our erro
 * Siconos 4.4 (Debian ``python3-siconos python3-scipy`` for ``/usr/bin/python3``): NSGS,
   NSN_AC, PROX and ADMM of ``fc3d_driver``, fed W as ``SBM_from_csparse(3, W_csc)``.
 * Pinocchio 4.1 (``pip install pin scipy`` in a separate venv, named by ``--pinocchio-python``
-  or ``$PINOCCHIO_PYTHON``): ``ADMMConstraintSolver`` on ``DelassusOperatorSparse`` and
-  ``PGSConstraintSolver`` on ``DelassusOperatorDense`` (PGS takes a dense Delassus only), with
+  or ``$PINOCCHIO_PYTHON``): ``ADMMConstraintSolver`` on ``DelassusOperatorSparse`` (``ADMM``;
+  ``ADMM_DENSE`` on ``DelassusOperatorDense`` can be named, and was slower on KaplasTower, 4.9 s
+  of CPU against 2.0 s) and ``PGSConstraintSolver`` on ``DelassusOperatorDense`` (PGS takes a
+  dense Delassus only), the dense ones up to ``PGS_MAX_UNKNOWNS`` unknowns; with
   ``solve_ncp=True`` (De Saxcé's correction: the exact Coulomb problem), one
   ``PointContactConstraintModel`` per contact carrying its mu; components reordered to
   Pinocchio's ``(T1, T2, N)``.
@@ -86,8 +88,8 @@ for a in range(nc):
     datas.append(c.createData())
 times, spent, last = [], 0.0, None
 while len(times) < REPEATS_MAX and (not times or spent < REPEAT_SECONDS):
-    if solver == "ADMM":
-        G = pin.DelassusOperatorSparse(Wp)
+    if solver.startswith("ADMM"):
+        G = pin.DelassusOperatorSparse(Wp) if solver == "ADMM" else pin.DelassusOperatorDense(Wp.toarray())
         s, st, res = pin.ADMMConstraintSolver(n), pin.ADMMSolverSettings(), pin.ADMMSolverResult()
     else:
         G = pin.DelassusOperatorDense(Wp.toarray())
@@ -145,10 +147,16 @@ def run_peer(python: str, runner: str, data: Path, solver: str, max_iter: int, t
     rfile = tmp / "r.npy"
     rfile.unlink(missing_ok=True)
     env = dict(os.environ, **SINGLE_THREAD)
+
+    def cpu_limit():                        # CPU seconds, not the wall clock of a loaded machine
+        resource.setrlimit(resource.RLIMIT_CPU, (int(timeout) + 1, int(timeout) + 2))
     try:
         out = subprocess.run([python, "-c", runner, str(data), solver, str(max_iter), str(tol), str(rfile)],
-                             capture_output=True, text=True, timeout=timeout, env=env)
+                             capture_output=True, text=True, timeout=20 * timeout + 60, env=env,
+                             preexec_fn=cpu_limit)
     except subprocess.TimeoutExpired:
+        return {"info": "timeout", "iterations": 0, "times": [float("inf")], "peak_mb": float("nan"), "r": None}
+    if out.returncode in (-24, 128 + 24):   # SIGXCPU: the CPU limit
         return {"info": "timeout", "iterations": 0, "times": [float("inf")], "peak_mb": float("nan"), "r": None}
     if out.returncode != 0 or not out.stdout.strip():
         peak = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024
