@@ -191,9 +191,8 @@ def generated_table(sizes, budget) -> list[str]:
         for name, law, hand in _laws():
             model = fr.ContactModel(law, kn=KN, kt=KT)
             q = model._q(model.initial_state(n))
-            k = model._names.index("kappa") if "kappa" in model._names else None
-            calls = [lambda: generated_step(model.effective_law, KT, KN, e, p, q, du, k, False),
-                     lambda: generated_step(model.effective_law, KT, KN, e, p, q, du, k, True)]
+            calls = [lambda: generated_step(model.effective_law, KT, KN, e, p, q, du, False),
+                     lambda: generated_step(model.effective_law, KT, KN, e, p, q, du, True)]
             if hand:
                 cfr = model.effective_law.closed_form_return()
                 calls.append(lambda: run_kernel(cfr, KT, KN, e, p, q, du))

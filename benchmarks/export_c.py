@@ -78,7 +78,7 @@ def main(argv=None) -> int:
     import frictionrules as fr
     from _table import write_table
     from contact_update import best_times
-    from frictionrules.contact._generated import generated_kernel
+    from frictionrules.contact._generated import generated_kernel, law_row
     cores = numba.config.NUMBA_NUM_THREADS
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
@@ -107,21 +107,18 @@ def main(argv=None) -> int:
                 c.batch(ctypes.c_long(n), dp(params), dp(state), dp(du), *(dp(o) for o in outs))
 
             kernel = generated_kernel(effective)
-            form = effective.symbolic_form()
-            kappa = effective.state_names.index("kappa") if "kappa" in effective.state_names else -1
-            consts = np.array([KT, KN, kappa, *form.values])
-            z = np.zeros((n, 3))
-            nb_out = kernel.outputs(n, True)
+            row = law_row(effective, KT, KN)
+            nb_out = []
 
             def run(threads):
                 numba.set_num_threads(threads)
-                kernel.run(z, z, q, du, consts, True, nb_out)
+                nb_out[:] = kernel.run(row, state, du, True)
 
             t_c, t_1, t_all = best_times([run_c, lambda: run(1), lambda: run(cores)],
                                          budget=args.budget)
-            ok = ~nb_out[5]  # contacts the Numba kernel leaves to its caller's substeps
-            same = bool(np.allclose(outs[1][ok], nb_out[3][ok, :3], rtol=1e-9, atol=1e-12)
-                        and np.allclose(outs[2].reshape(n, 3, 3)[ok], nb_out[6][ok], rtol=1e-7,
+            ok = ~nb_out[3]  # contacts the Numba kernel leaves to its caller's substeps
+            same = bool(np.allclose(outs[1][ok], nb_out[1][ok, :3], rtol=1e-9, atol=1e-12)
+                        and np.allclose(outs[2].reshape(n, 3, 3)[ok], nb_out[4][ok], rtol=1e-7,
                                         atol=1e-9))
             plastic = float(np.mean(outs[3] == 1))
             rows.append([label, f"{n / t_c:.3e}", f"{n / t_1:.3e}", f"{n / t_all:.3e}",

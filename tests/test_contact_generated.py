@@ -161,3 +161,57 @@ def test_kernel_layout_is_the_codegen_layout(nq):
     names = ("df", "dfq", "dg", "hgg", "hgq", "h", "dhs", "dhq")
     size = sum(int(np.prod(shape)) for _, shape in layout.values())
     assert _layout.py_func(nq) == tuple(layout[k][0] for k in names) + (size,)
+
+
+def _entry_loop():
+    """A compiled loop of the kind the grain assemblies' dynamic engine runs: one call of the
+    compiled entry ``contact_update`` per contact, the law given by its ``CompiledLaw``."""
+    from numba import njit
+
+    from frictionrules.contact import contact_update, workspace
+
+    @njit
+    def loop(fn, row, S, DU, max_depth):
+        n = S.shape[0]
+        S1, RES = np.empty_like(S), np.empty((n, 6))
+        status, failed = np.empty(n, np.int64), np.zeros(n, np.bool_)
+        ws = workspace(int(row[3]))
+        tan = np.empty((3, 3))
+        for i in range(n):
+            status[i], failed[i] = contact_update(fn, row, S[i], DU[i], S1[i], RES[i], ws,
+                                                  max_depth, False, tan)
+        return S1, RES, status, failed
+
+    return loop
+
+
+@pytest.mark.parametrize("name, scales", [("wedge", (0.01, 0.3, 3.0)), ("coulomb_hardening", (0.01, 0.3, 3.0)),
+                                          ("cap", (0.01, 0.1)), ("elliptic_softening", (0.01, 0.1))])
+def test_compiled_entry_with_substeps_is_the_numpy_return(name, scales):
+    """The one compiled entry, called per contact from a user's compiled loop with substeps
+    (halving where Newton fails, as ``generic_step`` does), gives the NumPy return mapping's
+    forces and state, large increments included (the wedge's whole step fails at a few
+    contacts of 0.3 and 3.0)."""
+    from frictionrules.contact.layout import RES_DISSIPATION, RES_FORCE, STATE_E, STATE_P, STATE_Q
+    law = LAWS[name]
+    model = ContactModel(law, kn=KN, kt=KT)
+    compiled = model.compiled()
+    loop = _entry_loop()
+    rng = np.random.default_rng(7)
+    n = 256
+    state = model.initial_state(n)
+    for scale in scales:
+        du = rng.normal(0.0, [scale, scale, 0.3 * scale], (n, 3)) + [0.0, 0.0, -0.5 * scale]
+        q = model._q(state)
+        S = np.concatenate((state.elastic, state.plastic, q), axis=1)
+        S1, res, status, failed = loop(compiled.fn, compiled.row, S, du, 10)
+        ref = model.update(state, du, compiled=False)
+        assert not failed.any()
+        F = max(np.abs(ref.force).max(), 1e-300)
+        np.testing.assert_allclose(res[:, RES_FORCE:RES_FORCE + 3], ref.force, rtol=0, atol=1e-9 * F)
+        np.testing.assert_allclose(S1[:, STATE_E:STATE_E + 3], ref.state.elastic, rtol=0, atol=1e-9 * scale)
+        np.testing.assert_allclose(S1[:, STATE_P:STATE_P + 3], ref.state.plastic, rtol=0, atol=1e-9 * scale)
+        np.testing.assert_allclose(S1[:, STATE_Q:], model._q(ref.state), rtol=0, atol=1e-9)
+        np.testing.assert_allclose(res[:, RES_DISSIPATION], ref.dissipation, rtol=0,
+                                   atol=1e-9 * F * scale)
+        state = ref.state

@@ -7,6 +7,21 @@ from .driver import DriveResult, Path, drive, read_path
 from .model import ContactModel
 from .state import ContactState, UpdateResult
 
+#: The compiled entry of one contact update (Numba), imported on first use: ``contact_update``
+#: and the per-thread ``workspace`` / ``Workspace`` of :mod:`frictionrules.contact._return_kernel`.
+_COMPILED = ("contact_update", "workspace", "Workspace")
+
+
+def __getattr__(name):
+    if name in _COMPILED:
+        from . import _return_kernel
+        return getattr(_return_kernel, name)
+    if name in ("CompiledLaw", "compiled_law"):
+        from . import _generated
+        return getattr(_generated, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
 __all__ = [
     "ContactModel",
     "ContactState",

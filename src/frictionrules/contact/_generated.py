@@ -27,7 +27,11 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["GeneratedKernel", "generated_kernel", "generated_step", "cache_dir"]
+from .layout import (LAW_PARAMS, RES_DISSIPATION, RES_DLAM, RES_FORCE, RES_SIZE, RES_SLIP, STATE_E,
+                      STATE_P, STATE_Q)
+
+__all__ = ["GeneratedKernel", "CompiledLaw", "compiled_law", "law_row", "generated_kernel",
+           "generated_step", "cache_dir"]
 
 #: Contacts per thread below which one thread runs (a thread costs more than the work).
 SERIAL_BELOW = 2048
@@ -125,38 +129,84 @@ class GeneratedKernel:
     clip: bool
     path: Path
 
-    def outputs(self, n: int, tangent: bool) -> tuple:
-        """Fresh output arrays ``(e1, p1, q1, res, status, failed, tangent)`` for ``n`` contacts."""
-        return (np.empty((n, 3)), np.empty((n, 3)), np.empty((n, self.nq)), np.empty((n, 6)),
-                np.empty(n, dtype=np.int8), np.empty(n, dtype=np.bool_),
-                np.empty((n if tangent else 1, 3, 3)))
+    @property
+    def fn(self) -> np.ndarray:
+        """Addresses of the three local functions (f; the residual's quantities; the
+        Jacobian's), as :func:`~frictionrules.contact._return_kernel.contact_update` takes them."""
+        m = self.module
+        return np.array([m._local_f.address, m._local_first.address, m._local_full.address],
+                        dtype=np.int64)
 
-    def run(self, e, p, q, du, consts, tangent: bool, outputs=None):
-        """Run over ``n`` contacts; returns ``(e1, p1, q1, res, status, failed, tangent)``
-        (``outputs``, from :meth:`outputs`, reused when given)."""
-        n = len(e)
-        if outputs is None:
-            outputs = self.outputs(n, tangent)
-        inputs = tuple(np.ascontiguousarray(a, dtype=float).reshape(n, -1) for a in (e, p, q, du))
-        consts = np.ascontiguousarray(np.insert(np.asarray(consts, dtype=float), 3, float(self.clip)))
+    def run(self, row, S, DU, tangent: bool, max_depth: int = 0):
+        """Run over ``n`` contacts: state rows ``S`` (n, 6 + nq) and increments ``DU`` (n, 3)
+        with the law's row ``row``; returns ``(S1, RES, STATUS, FAILED, TAN)``."""
+        n = len(S)
+        outputs = (np.empty_like(S), np.empty((n, RES_SIZE)), np.empty(n, dtype=np.int8),
+                   np.empty(n, dtype=np.bool_), np.empty((n if tangent else 1, 3, 3)))
         from numba import get_num_threads
 
         from ._return_kernel import update
-        m = self.module
-        fns = (m._local_f.address, m._local_first.address, m._local_full.address)
+        fn = self.fn
+        inputs = (S, DU)
         threads = min(get_num_threads(), n // SERIAL_BELOW)
         if threads <= 1:
-            update(*fns, inputs, consts, outputs, bool(tangent), 0, n)
+            update(fn, row, inputs, outputs, bool(tangent), int(max_depth), 0, n)
         else:
             # The kernel releases the GIL: chunks of contacts run on threads in parallel.
             from concurrent.futures import ThreadPoolExecutor
             cuts = np.linspace(0, n, 4 * threads + 1).astype(int)
             with ThreadPoolExecutor(threads) as pool:
-                jobs = [pool.submit(update, *fns, inputs, consts, outputs, bool(tangent), int(a),
-                                    int(b)) for a, b in zip(cuts[:-1], cuts[1:])]
+                jobs = [pool.submit(update, fn, row, inputs, outputs, bool(tangent),
+                                    int(max_depth), int(a), int(b))
+                        for a, b in zip(cuts[:-1], cuts[1:])]
                 for job in jobs:
                     job.result()
         return outputs
+
+
+@dataclass(frozen=True, eq=False)
+class CompiledLaw:
+    """A contact model as the compiled entry
+    :func:`~frictionrules.contact._return_kernel.contact_update` takes it.
+
+    Attributes
+    ----------
+    fn : int64 array (3,)
+        Addresses of the law's generated local functions.
+    row : float64 array
+        The law's row (:mod:`frictionrules.contact.layout`): ``kt, kn``, flags, parameters.
+    nq : int
+        Number of internal variables (a state row has ``6 + nq`` entries).
+    state_names : tuple of str
+        The internal variables' names, in the order of the state row's ``q``.
+    kernel : GeneratedKernel
+        Keeps the generated module (and so the functions at ``fn``) alive.
+    """
+
+    fn: np.ndarray
+    row: np.ndarray
+    nq: int
+    state_names: tuple
+    kernel: GeneratedKernel
+
+
+def law_row(law, kt: float, kn: float) -> np.ndarray:
+    """The row of :mod:`frictionrules.contact.layout` for ``law`` with stiffnesses ``kt, kn``."""
+    names = tuple(law.state_names)
+    kappa = names.index("kappa") if "kappa" in names else 0
+    head = [float(kt), float(kn), float(not law.defined_in_tension), float(len(names)),
+            float("kappa" in names), float(kappa)]
+    assert len(head) == LAW_PARAMS
+    row = np.concatenate((head, parameter_values(law)))
+    row.flags.writeable = False
+    return row
+
+
+def compiled_law(law, kt: float, kn: float) -> CompiledLaw:
+    """The compiled entry's view of ``law`` with stiffnesses ``kt, kn`` (the law's generated
+    functions are built once per structure and cached, see :func:`generated_kernel`)."""
+    kernel = generated_kernel(law)
+    return CompiledLaw(kernel.fn, law_row(law, kt, kn), kernel.nq, tuple(law.state_names), kernel)
 
 
 _MODULES: dict[str, tuple] = {}
@@ -193,7 +243,7 @@ def _build(form, law_name, structure):
     return module, path
 
 
-def generated_step(law, kt, kn, e, p, q, du, kappa_index, tangent: bool):
+def generated_step(law, kt, kn, e, p, q, du, tangent: bool):
     """One step over a batch with the generated compiled return mapping of ``law``.
 
     Returns the step's rows (:class:`~frictionrules.contact._step.Step`), a boolean array of
@@ -202,8 +252,11 @@ def generated_step(law, kt, kn, e, p, q, du, kappa_index, tangent: bool):
     """
     from ._step import Step
     kernel = generated_kernel(law)
-    consts = np.concatenate(([kt, kn, -1.0 if kappa_index is None else float(kappa_index)],
-                             parameter_values(law)))
-    e1, p1, q1, res, status, failed, tan = kernel.run(e, p, q, du, consts, tangent)
-    step = Step(e1, p1, q1, res[:, 0:3], res[:, 3], status.astype(np.int64), res[:, 4], res[:, 5])
+    S = np.ascontiguousarray(np.concatenate((e, p, q), axis=1), dtype=float)
+    DU = np.ascontiguousarray(du, dtype=float)
+    S1, res, status, failed, tan = kernel.run(law_row(law, kt, kn), S, DU, tangent)
+    q1 = S1[:, STATE_Q:]
+    step = Step(S1[:, STATE_E:STATE_E + 3], S1[:, STATE_P:STATE_P + 3], q1,
+                res[:, RES_FORCE:RES_FORCE + 3], res[:, RES_DLAM], status.astype(np.int64),
+                res[:, RES_DISSIPATION], res[:, RES_SLIP])
     return step, failed, (tan if tangent else None)

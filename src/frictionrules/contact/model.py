@@ -116,6 +116,14 @@ class ContactModel:
             return law.closed_form_return().kernel
         return None
 
+    def compiled(self):
+        """This model as the compiled entry takes it (:class:`CompiledLaw`: the addresses of
+        the law's generated functions and its row of stiffnesses and parameters), for a
+        compiled loop that calls ``frictionrules.contact.contact_update`` per contact (the
+        grain assemblies' dynamic engine). Needs Numba and SymPy."""
+        from ._generated import compiled_law
+        return compiled_law(self.effective_law, self.kt, self.kn)
+
     # ---- states ----------------------------------------------------------------------------
     def initial_state(self, shape=(), beta=0.5, **internal) -> ContactState:
         """Virgin contacts: zero displacements, ``κ = 0``, the area fraction ``β`` and the law's
@@ -237,7 +245,7 @@ class ContactModel:
         elif compiled and _has_numba():
             from ._generated import generated_step
             step, failed, tan = generated_step(self.effective_law, self.kt, self.kn, e, p, q, du,
-                                               kappa_index, tangent)
+                                               tangent)
         else:
             step, failed = generic_step(self._surface, e, p, q, du, self._Dv, kappa_index), None
         if failed is not None and failed.any():
