@@ -61,7 +61,7 @@ def folders(args) -> list[Path]:
     return [shared / "fclib", shared / "fclib-large", ROOT / "benchmarks" / "data"]
 
 
-def worker(path: str, method: str, time_limit: float) -> None:
+def worker(path: str, method: str, time_limit: float, targets=TARGETS) -> None:
     """Our runs of one method on one file, to every target (in its own process): JSON on stdout."""
     from frictionrules import FrictionContactProblem, read_fclib, solve
     p = read_fclib(path)
@@ -69,7 +69,7 @@ def worker(path: str, method: str, time_limit: float) -> None:
         solve(FrictionContactProblem(np.eye(3 * nc) + 0.1, np.tile([-1.0, 2.0, 0.0], nc), [0.5] * nc),
               method=method, max_iter=3)
     out = {}
-    for tol in TARGETS:
+    for tol in targets:
         times, spent = [], 0.0
         while len(times) < REPEATS_MAX and (not times or spent < REPEAT_SECONDS):
             c0 = time.thread_time()
@@ -86,7 +86,7 @@ def worker(path: str, method: str, time_limit: float) -> None:
 
 
 #: Iterations timed per method for the scaling figure (tol = 0: none stops early).
-PER_ITERATION = {"nsgs": 40, "newton": 4, "prox": 3, "admm": 60, "polish": 3}
+PER_ITERATION = {"nsgs": 40, "newton": 2, "prox": 1, "admm": 60, "polish": 2}
 
 
 def per_iteration_worker(path: str) -> None:
@@ -123,10 +123,11 @@ def per_iteration_worker(path: str) -> None:
     print(json.dumps(out))
 
 
-def ours(path: Path, method: str, time_limit: float) -> dict:
+def ours(path: Path, method: str, time_limit: float, targets) -> dict:
     try:
-        out = subprocess.run([sys.executable, __file__, "--worker", str(path), method, str(time_limit)],
-                             capture_output=True, text=True, timeout=len(TARGETS) * (time_limit + 120))
+        out = subprocess.run([sys.executable, __file__, "--worker", str(path), method, str(time_limit),
+                              ",".join(f"{t:.0e}" for t in targets)],
+                             capture_output=True, text=True, timeout=len(targets) * (20 * time_limit + 120))
     except subprocess.TimeoutExpired:
         return {}
     if out.returncode != 0:
@@ -166,7 +167,7 @@ def _load() -> str:
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--fclib", nargs="*", help="folders of FCLIB files (default: the shared ones)")
-    ap.add_argument("--only", help="only files whose name contains this")
+    ap.add_argument("--only", help="only files whose name contains this (or one of these, comma-separated)")
     ap.add_argument("--no-peers", action="store_true", help="do not run Siconos and Pinocchio")
     ap.add_argument("--pinocchio-python", help="a Python that imports pinocchio (or $PINOCCHIO_PYTHON)")
     ap.add_argument("--time-limit", type=float, default=15.0, help="CPU seconds per run of ours (default 15)")
@@ -177,11 +178,15 @@ def main(argv=None) -> int:
                          "(their times are CPU times of one thread: the load of that run matters little); "
                          "the peers missing there are run")
     ap.add_argument("--out", default=str(ROOT / "benchmarks" / "results" / "fclib.csv"))
-    ap.add_argument("--worker", nargs=3, help=argparse.SUPPRESS)
+    ap.add_argument("--targets", type=float, nargs="+", default=list(TARGETS), help="target errors (default 1e-8 1e-4)")
+    ap.add_argument("--methods", default=",".join(OURS), help="our methods, comma-separated (default: all)")
+    ap.add_argument("--keep", metavar="CSV", help="also report the rows of an earlier run's CSV for the files and "
+                                                   "targets not run now")
+    ap.add_argument("--worker", nargs=4, help=argparse.SUPPRESS)
     ap.add_argument("--per-iteration", help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.worker:
-        worker(args.worker[0], args.worker[1], float(args.worker[2]))
+        worker(args.worker[0], args.worker[1], float(args.worker[2]), [float(t) for t in args.worker[3].split(",")])
         return 0
     if args.per_iteration:
         per_iteration_worker(args.per_iteration)
@@ -191,8 +196,10 @@ def main(argv=None) -> int:
     from frictionrules._atomic import write_text
     from frictionrules.io import read_fclib
 
-    files = sorted((f for d in folders(args) if d.is_dir() for f in d.glob("*.hdf5")
-                    if not args.only or args.only in f.name), key=lambda f: f.stat().st_size)
+    every_file = sorted((f for d in folders(args) if d.is_dir() for f in d.glob("*.hdf5")),
+                        key=lambda f: f.stat().st_size)
+    files = [f for f in every_file if not args.only or any(o in f.name for o in args.only.split(","))]
+    methods = tuple(m for m in args.methods.split(",") if m)
     if not files:
         print("no FCLIB files found", file=sys.stderr)
         return 2
@@ -215,6 +222,11 @@ def main(argv=None) -> int:
     load_start = _load()
     print(f"start: {load_start}")
     rows = [HEADER]
+    run_now = {(f.name, f"{t:.0e}") for f in files for t in args.targets}
+    if args.keep:
+        with open(args.keep, encoding="utf-8") as fh:
+            kept = [line.rstrip("\n") for line in fh if line.strip() and not line.startswith(("#", "file,"))]
+        rows += [line for line in kept if tuple(line.split(",")[i] for i in (0, 3)) not in run_now]
     print(f"{'file':40s} {'nc':>5s} {'target':>7s} {'solver':>17s} {'iter':>7s} {'error':>9s} {'cpu/s':>9s} "
           f"{'spread':>19s} {'n':>4s} {'MB':>6s}")
 
@@ -236,8 +248,8 @@ def main(argv=None) -> int:
         for f in files:
             problem = read_fclib(f)
             data = _peers.save_problem(problem, tmp / "problem.npz")
-            mine = {m: ours(f, m, args.time_limit) for m in OURS}
-            for target in TARGETS:
+            mine = {m: ours(f, m, args.time_limit, args.targets) for m in methods}
+            for target in args.targets:
                 reused = {row["solver"] for row in earlier.get((f.name, target), [])}
                 for res in peer_rows(problem, data, tmp, target, args.peer_limit, sic, pin, skip=reused):
                     emit(f, problem, target, res)
@@ -246,14 +258,14 @@ def main(argv=None) -> int:
                     print(f"{f.stem[:40]:40s} {problem.nc:5d} {target:7.0e} {row['solver']:>17s} "
                           f"{row['iterations']:>7s} {float(row['error']):9.2e} {float(row['cpu_median']):9.5f}"
                           "  (from --reuse-peers)")
-                for m in OURS:
+                for m in methods:
                     res = dict(mine[m].get(f"{target:.0e}", {"info": "crash", "times": [np.inf]}),
                                solver=m, peak_mb=mine[m].get("peak_mb", np.nan))
                     emit(f, problem, target, res)
             write_text(args.out, "\n".join(rows) + "\n")  # after every file: a cut run keeps it
         if args.figures:
             per_it = {}
-            for f in files:
+            for f in every_file:
                 out = subprocess.run([sys.executable, __file__, "--per-iteration", str(f)], capture_output=True,
                                      text=True)
                 if out.returncode == 0:
