@@ -77,26 +77,9 @@ def register(sub) -> None:
 
 
 def _check_output(option: str, path, suffixes) -> None:
-    """Fail before any work if ``path`` has the wrong suffix or its folder cannot be written
-    (``check_output`` of the output layer, then a probe file: /proc passes the permission test
-    but refuses files)."""
-    import os
-    import tempfile
-    from pathlib import Path
-
-    from .._output import check_output
-    from ..errors import FrictionRulesError
-    path = check_output(path, suffixes, name=option)
-    folder = path.parent
-    while not folder.exists() and folder != folder.parent:
-        folder = folder.parent
-    try:
-        fd, probe = tempfile.mkstemp(dir=folder, prefix=".frictionrules-probe-")
-        os.close(fd)
-        os.unlink(probe)
-    except OSError as exc:
-        raise FrictionRulesError(f"{option} = {str(Path(path))!r}: cannot write in {str(folder)!r} "
-                                 f"({exc.strerror or type(exc).__name__})") from None
+    """Fail before any work if ``path`` has the wrong suffix or its folder cannot be written."""
+    from .._output import check_folder, check_output
+    check_folder(check_output(path, suffixes, name=option).parent, name=option)
 
 
 def _row(rec) -> str:
