@@ -79,7 +79,8 @@ def register(sub) -> None:
 def _check_output(option: str, path, suffixes) -> None:
     """Fail before any work if ``path`` has the wrong suffix or its folder cannot be written."""
     from .._output import check_folder, check_output
-    check_folder(check_output(path, suffixes, name=option).parent, name=option)
+    path = check_output(path, suffixes, name=option)
+    check_folder(path.parent, name=option, shown=path)
 
 
 def _row(rec) -> str:
