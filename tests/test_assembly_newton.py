@@ -14,12 +14,12 @@ def _blocks(J):
 
 
 @pytest.mark.parametrize("dense", [True, False])
-def test_newton_direction_is_the_filtered_inverse(dense):
-    """With the elastic Jacobian E = I (so M = m I, m = 1 + η) and J = V diag(λ) Vᵀ, the three
-    parts are, mode by mode (``εm = ε m``): the step ``-λ/(λ + εm)² VᵀR`` (Newton's ``-1/λ``
-    on the stiff modes), the mechanism part ``z = -εm/(λ + εm)² VᵀR`` and the load left
-    ``εM(z - 2dx) = εm(2λ + εm)/(λ + εm)² VᵀR``: all of R's component on the modes with
-    ``λ ≪ ε``, none of the stiff ones."""
+def test_newton_direction_is_newton_without_the_mechanisms(dense):
+    """With the elastic Jacobian E = I (so M = m I, m = 1 + η) and J = V diag(λ) Vᵀ, mode by
+    mode (``q = εm/(λ + εm)``): the step is ``-(1 - q)²(1 + 2q)/λ VᵀR`` (Newton's ``-1/λ`` to
+    within ``3q²`` on the stiff modes, nothing on the mechanisms), its part on the mechanisms
+    the rest of ``y = -A⁻¹R``, and the load left ``R + J dx = (3q² - 2q³) VᵀR``: all of R's
+    component on the modes with ``λ ≪ ε``, none of the stiff ones."""
     rng = np.random.default_rng(3)
     lam = np.array([[1.0, 0.3, 1e-3], [2.0, 1e-12, 0.0]])
     J = np.zeros((6, 6))
@@ -34,16 +34,21 @@ def test_newton_direction_is_the_filtered_inverse(dense):
     step, z, load = newton_direction(B, _blocks(J), _blocks(np.eye(6)), R, dense)
     w, V = np.linalg.eigh(J)
     em = MECHANISM * (1 + FREE_SHIFT)
+    q = em / (w + em)
     r = V.T @ R
-    stiff = w > 1e-4
-    # dx and z are ~|R|/ε on the mechanisms: every part is exact to the rounding of that size
+    y = -r / (w + em)
+    # y and the corrections are ~|R|/ε on the mechanisms: exact to the rounding of that size
+    # (times the largest stiffness, 2, for the load R + J dx)
     big = np.abs(r).max() / em
-    np.testing.assert_allclose(V.T @ step, -w / (w + em) ** 2 * r, rtol=1e-9, atol=1e-11 * big)
-    np.testing.assert_allclose(V.T @ z, -em / (w + em) ** 2 * r, rtol=1e-9, atol=1e-14 * big)
-    np.testing.assert_allclose(V.T @ load, em * (2 * w + em) / (w + em) ** 2 * r, rtol=1e-9,
-                               atol=1e-14 * em * big)
+    np.testing.assert_allclose(V.T @ step, -(1 - q) * (1 + 2 * q) / (w + em) * r, rtol=1e-9,
+                               atol=1e-11 * big)
+    np.testing.assert_allclose(V.T @ z, y - V.T @ step, rtol=1e-9, atol=1e-11 * big)
+    np.testing.assert_allclose(V.T @ load, (3 * q**2 - 2 * q**3) * r, rtol=1e-9,
+                               atol=1e-15 * 2 * big)
+    stiff = w > 1e-4
+    np.testing.assert_allclose((V.T @ step)[stiff], -r[stiff] / w[stiff], rtol=1e-5)  # Newton
     np.testing.assert_allclose((V.T @ load)[~stiff], r[~stiff], rtol=1e-5)   # the whole load
-    assert np.all(np.abs(V.T @ load)[stiff] <= 3e-3 * np.abs(r[stiff]))       # none of it
+    assert np.all(np.abs(V.T @ load)[stiff] <= 1e-5 * np.abs(r[stiff]))       # none of it
 
 
 def test_rattlers_are_the_grains_outside_the_two_core():

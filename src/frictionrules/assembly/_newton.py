@@ -61,19 +61,23 @@ def jacobian(B, S, dense: bool):
 
 def newton_direction(B, S, S_elastic, R, dense: bool, *, permc_spec: str = PERMC_SPEC,
                      pivot_threshold: float = PIVOT_THRESHOLD):
-    r"""Newton's step for ``J dx = -R`` (``J = Bᵀ S B``, the consistent tangents ``S``) split
-    into its part on the stiff modes of ``J`` and its part on the mechanisms.
+    r"""Newton's step for ``J dx = -R`` (``J = Bᵀ S B``, the consistent tangents ``S``) without
+    its part on the mechanisms.
 
     A mechanism is a mode that keeps less than ``ε =`` :data:`MECHANISM` of its elastic
     stiffness: ``J v = λ M v`` with ``λ ≪ ε``, ``M = E + η I`` (``E = Bᵀ S_elastic B`` the
     elastic Jacobian, ``η`` a small multiple of its mean diagonal for what no closed contact
-    holds). With ``A = J + ε M``, ``dx = -A⁻¹R`` and ``z = ε A⁻¹ M dx`` have on such a mode the
-    factors ``-1/(λ + ε)`` and ``-ε/(λ + ε)²``: ``z`` is the part of ``dx`` on the mechanisms
-    and ``dx - z`` (factor ``-λ/(λ + ε)²``, ``-1/λ`` to within ``2ε/λ`` for ``λ ≫ ε``) the
-    Newton step without them. It leaves the residual ``R + J (dx - z) = ε M (z - 2 dx)``: the
-    load on the mechanisms, which no step of the linearized problem balances.
+    holds). With ``A = J + ε M``, ``y = -A⁻¹R``, ``z₁ = ε A⁻¹ M y`` and ``z₂ = ε A⁻¹ M z₁`` have
+    on a mode the factors ``-(1 - q)/λ``, ``-q(1 - q)/λ`` and ``-q²(1 - q)/λ`` with
+    ``q = ε/(λ + ε)``; the step ``dx = y + z₁ - 2 z₂`` has ``-(1 - q)²(1 + 2q)/λ``: Newton's
+    ``-1/λ`` to within ``3q² ≈ 3(ε/λ)²`` on the stiff modes, and ``-3λ/ε²`` (nothing) on the
+    mechanisms, whose amplitude the linearized equations do not fix. It leaves the residual
+    ``R + J dx`` (``(3q² - 2q³)`` of each mode's): the load on the mechanisms, which no
+    neighbouring configuration with the same statuses balances.
 
-    Returns ``(dx - z, z, ε M (z - 2 dx))``, or None where the factorization fails.
+    Returns ``(dx, y - dx, R + J dx)`` — the step, its part on the mechanisms (where the load
+    drives them, :func:`along_mechanism`) and that load — or None where the factorization
+    fails.
     """
     J = jacobian(B, S, dense)
     E = jacobian(B, S_elastic, dense)
@@ -96,11 +100,13 @@ def newton_direction(B, S, S_elastic, R, dense: bool, *, permc_spec: str = PERMC
                               diag_pivot_thresh=pivot_threshold).solve
         except RuntimeError:
             return None
-    dx = solve(-R)
-    z = MECHANISM * solve(M @ dx)
-    if not (np.all(np.isfinite(dx)) and np.all(np.isfinite(z))):
+    y = solve(-R)
+    z1 = MECHANISM * solve(M @ y)
+    z2 = MECHANISM * solve(M @ z1)
+    dx = y + z1 - 2 * z2
+    if not np.all(np.isfinite(dx)):
         return None
-    return dx - z, z, MECHANISM * (M @ (z - 2 * dx))
+    return dx, y - dx, R + J @ dx
 
 
 def accepts(trial, ev, t: float, rtol: float) -> bool:

@@ -174,7 +174,7 @@ def _elastic_tangents(contacts: ContactSet, status: np.ndarray) -> np.ndarray:
     out = np.zeros((contacts.size, 3, 3))
     for g, model in enumerate(contacts.models):
         idx = contacts.members(g)
-        out[idx] = np.where((status[idx] != 2)[:, None, None], model.elastic_tangent, 0.0)
+        out[idx] = np.where((status[idx] != OPEN)[:, None, None], model.elastic_tangent, 0.0)
     return out
 
 
