@@ -34,7 +34,8 @@ __all__ = ["Kinematics", "Outcome", "solve_increment", "components", "stress_of"
 
 #: Above this many unknowns the Jacobian is sparse (SciPy).
 DENSE_LIMIT = 400
-#: Newton iterations without halving the merit after which an increment is given up.
+#: Newton iterations that change no contact's status without halving the merit after which
+#: an increment is given up.
 STALL = 6
 _SIGN = np.array([1.0, 1.0, -1.0])
 
@@ -74,9 +75,7 @@ class Kinematics:
         but the translation of the first of them (it holds the sample against a rigid
         translation), and the free cell components.
         """
-        d, g = self.dim, self.ndof_grains
-        n = g // (d + (1 if d == 2 else 3))
-        nr = g // n - d
+        d, g, n, nr = self.dim, self.ndof_grains, self.grains, self.rotations
         moving = np.flatnonzero(~fixed)
         trans = (moving[1:, None] * d + np.arange(d)).ravel()
         rot = (n * d + moving[:, None] * nr + np.arange(nr)).ravel()
@@ -86,6 +85,15 @@ class Kinematics:
     @property
     def dim(self) -> int:
         return 2 if self.ncomp == 3 else 3
+
+    @property
+    def rotations(self) -> int:
+        """Rotations per grain (1 for disks, 3 for spheres)."""
+        return 1 if self.dim == 2 else 3
+
+    @property
+    def grains(self) -> int:
+        return self.ndof_grains // (self.dim + self.rotations)
 
 
 def kinematics(positions, radii, cell, contacts: ContactSet) -> Kinematics:
@@ -260,7 +268,7 @@ def _newton(kin, contacts, free, prescribed, target, fixed, vec, rtol, max_itera
 
     ``target`` is ``σ*_k`` times the multiplicity of the component (2 off the diagonal).
     """
-    n, d = kin.ndof_grains // (kin.dim + (1 if kin.dim == 2 else 3)), kin.dim
+    n, d = kin.grains, kin.dim
     m = contacts.size
     cols_free, cols_pres = kin.columns(free, fixed)
     B = kin.B
