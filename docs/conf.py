@@ -49,7 +49,11 @@ html_title = f"frictionrules {release}"
 html_theme_options = {
     "description": "Contact friction treated as plasticity",
     "fixed_sidebar": True,
-    "page_width": "1100px",
+    "page_width": "1240px",    # 1280-px screens: the text column takes ~110 characters of code
+    "body_max_width": "960px",
     "sidebar_width": "240px",
 }
 html_show_sourcelink = False
+# long code and output lines wrap inside their boxes; figures fit the text width
+html_static_path = ["_static"]
+html_css_files = ["frictionrules.css"]

@@ -8,10 +8,12 @@ four models are fitted with that uncertainty: the facet model (two-flank groove)
 orthotropic laws. The table gives each fit's rms, chi2/dof and parameters with 95 % intervals;
 the figure shows the data with error bars, the fits and the normalized residuals.
 
-Run: python examples/asperity_heightmap_fit.py
+Run: ``python examples/asperity_heightmap_fit.py`` (prints the results and saves the
+figure in the current folder).
 """
 
 import warnings
+from pathlib import Path
 
 import numpy as np
 
@@ -44,7 +46,8 @@ def measurements(n=256, error=0.02, seed=0):
     return theta, mu, sigma
 
 
-def main(n=256, out="heightmap_fit.png"):
+def main(n=256, out_dir=None):
+    """Print the fits; with ``out_dir``, save the figure there. Returns the best rms."""
     theta, mu, sigma = measurements(n)
     print(f"{len(theta)} measurements; mu from {mu.min():.3f} to {mu.max():.3f} (+- 2 %)")
     results = compare_fits(theta, mu, {
@@ -53,8 +56,10 @@ def main(n=256, out="heightmap_fit.png"):
         "TransformedCoulomb": TransformedCoulomb(0.5, 0.4),
         "TwoFlankAsperity": TwoFlankAsperity(0.4, 2.8, 0.3)}, sigma=sigma)
     print(format_fits(results))
-    if out:
-        draw(theta, mu, sigma, results, out)
+    if out_dir is not None:
+        path = Path(out_dir) / "asperity_heightmap_fit.png"
+        draw(theta, mu, sigma, results, path)
+        print(f"wrote {path}")
     return min(r.rms for r in results.values())
 
 
@@ -85,4 +90,4 @@ def draw(theta, mu, sigma, results, out):
 
 
 if __name__ == "__main__":
-    main()
+    main(out_dir=".")

@@ -5,8 +5,11 @@ The grooves run along y; each facet carries its local law in its own frame (t1 t
 x onto the facet: across the lay, t2 along it; docs/conventions.md). A machined facet with a
 finer lay of its own along the grooves is ``EllipticOrthotropic(mu_across, mu_along)``.
 
-Run: python examples/asperity_machined_local_law.py
+Run: ``python examples/asperity_machined_local_law.py`` (prints the results and saves the
+figure in the current folder).
 """
+
+from pathlib import Path
 
 import numpy as np
 
@@ -22,7 +25,8 @@ LAWS = {
 }
 
 
-def main(n: int = 128) -> dict:
+def main(n: int = 128, out_dir=None) -> dict:
+    """Print mu(theta) of each local law; with ``out_dir``, save the polar figure there."""
     h = machined_surface(n, roughness=0.1, correlation=4.0)
     theta = np.deg2rad([0.0, 45.0, 90.0, 135.0, 180.0])
     print("mu(theta) at theta = 0, 45, 90, 135, 180 deg (slip across the lay at 0 and 180)")
@@ -32,8 +36,21 @@ def main(n: int = 128) -> dict:
         mu = facets.friction_coefficient(theta)
         out[name] = mu
         print(f"  {name:42s} {np.array2string(mu, precision=4)}")
+    if out_dir is not None:
+        import matplotlib.pyplot as plt
+        fine = np.linspace(-np.pi, np.pi, 361)
+        ax = plt.figure(figsize=(6.0, 6.0)).add_subplot(projection="polar")
+        for name, law in LAWS.items():
+            ax.plot(fine, from_heightmap(h, 1.0, 1.0, law).friction_coefficient(fine), label=name)
+        ax.set_title(r"$\mu(\theta)$ of the machined map for sliding at $\theta$ (grooves along "
+                     "$y$)", fontsize=9)
+        ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.08), fontsize=7)
+        path = Path(out_dir) / "asperity_machined_local_law.png"
+        ax.figure.savefig(path, dpi=110, bbox_inches="tight")
+        plt.close(ax.figure)
+        print(f"wrote {path}")
     return out
 
 
 if __name__ == "__main__":
-    main()
+    main(out_dir=".")

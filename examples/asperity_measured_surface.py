@@ -6,9 +6,11 @@ law of a rigid block on its facets (local mu = 0.3) at the default scale (the IS
 cut-off five pixels long, mean plane removed), prints a table per file, and draws the scale
 study of the X3P map (mu(theta) against the cut-off) and its mu(theta) at two scales.
 
-Run: python examples/asperity_measured_surface.py
+Run: ``python examples/asperity_measured_surface.py`` (prints the results and saves the
+figure in the current folder).
 """
 
+import os
 import time
 import warnings
 from pathlib import Path
@@ -18,6 +20,8 @@ import numpy as np
 from frictionrules import from_topography, read_surface, scale_study
 
 SURFACES = Path(__file__).resolve().parents[1].parent / "shared" / "surfaces"
+if not SURFACES.is_dir():
+    SURFACES = Path(os.environ.get("FRICTIONRULES_SURFACES", SURFACES))
 FILES = ("di-1.di", "x3p-2.x3p", "opdx-3.opdx")
 MU = 0.3
 
@@ -50,9 +54,10 @@ def figures(name="x3p-2.x3p", folder=SURFACES, out="."):
     study = scale_study(topo, MU, scales=px * np.array([2, 5, 10, 20, 50, 100]), n=120)
     ax = study.plot()
     ax.set_title(f"{name}: mu(theta) against the smoothing scale (local mu = {MU})", fontsize=9)
-    ax.figure.savefig(Path(out) / "measured_surface_scale_study.png", dpi=120,
-                      bbox_inches="tight")
+    path = Path(out) / "measured_surface_scale_study.png"
+    ax.figure.savefig(path, dpi=120, bbox_inches="tight")
     plt.close(ax.figure)
+    print(f"wrote {path}")
     fig, ax = plt.subplots(figsize=(6.0, 3.6))
     for k, style in ((5, "k-"), (50, "k--")):
         with warnings.catch_warnings():
@@ -68,20 +73,23 @@ def figures(name="x3p-2.x3p", folder=SURFACES, out="."):
     ax.set_ylabel(r"$\mu(\theta)$")
     ax.set_title(f"{name}: directional friction coefficient at two scales", fontsize=9)
     ax.legend(loc="lower center", ncol=3, fontsize=7)
-    fig.savefig(Path(out) / "measured_surface_mu_theta.png", dpi=120, bbox_inches="tight")
+    path = Path(out) / "measured_surface_mu_theta.png"
+    fig.savefig(path, dpi=120, bbox_inches="tight")
     plt.close(fig)
+    print(f"wrote {path}")
     return study
 
 
-def main(files=FILES, draw=True):
+def main(files=FILES, out_dir=None):
+    """Print the table; with ``out_dir``, save the figures of the X3P map there."""
     missing = [f for f in files if not (SURFACES / f).is_file()]
     if missing:
-        print(f"not found beside the repository: {missing} (in {SURFACES})")
+        print(f"not found beside the repository (../shared/surfaces): {missing}")
         return None
     rows = table(files)
-    study = figures() if draw else None
+    study = figures(out=out_dir) if out_dir is not None else None
     return rows, study
 
 
 if __name__ == "__main__":
-    main()
+    main(out_dir=".")

@@ -1,15 +1,19 @@
 """The paper's two-flank asperity (Fig. 5): mechanisms, concave corners, non-associated rule;
 then the same groove with machined (orthotropic) flanks.
 
-Run: python examples/asperity_two_flank.py
+Run: ``python examples/asperity_two_flank.py`` (prints the results and saves the
+figure in the current folder).
 """
+
+from pathlib import Path
 
 import numpy as np
 
 from frictionrules import EllipticOrthotropic, TwoFlankAsperity
 
 
-def main():
+def main(out_dir=None):
+    """Print the mechanisms and corners; with ``out_dir``, save Fig. 5 there."""
     law = TwoFlankAsperity(alpha1=np.pi / 3, alpha2=5 * np.pi / 6, mu=1.0)
     for deg in (0.0, 60.0, 90.0, 150.0, 180.0):
         d = np.array([np.cos(np.deg2rad(deg)), np.sin(np.deg2rad(deg))])
@@ -32,8 +36,17 @@ def main():
     theta = np.deg2rad([0.0, 45.0, 90.0, 135.0, 180.0])
     print("machined flanks, mu(theta) at 0, 45, 90, 135, 180 deg:",
           np.round(machined.friction_coefficient(theta), 4))
+    if out_dir is not None:
+        import matplotlib.pyplot as plt
+
+        from frictionrules.plot import fig5_two_flank
+        ax = fig5_two_flank()
+        path = Path(out_dir) / "asperity_two_flank.png"
+        ax.figure.savefig(path, dpi=110, bbox_inches="tight")
+        plt.close(ax.figure)
+        print(f"wrote {path}")
     return mu_y
 
 
 if __name__ == "__main__":
-    main()
+    main(out_dir=".")

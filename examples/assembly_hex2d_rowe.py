@@ -3,8 +3,8 @@ force network and the roses of contact normals and mobilized friction at the end
 
 R = σ1/σ3 = tan(θ + φμ) tan θ and D = −dεx/dεy = tan²θ with θ = 60°, i.e. Rowe's
 R = D tan(θ + φμ)/tan θ (docs/assembly.md).
-Run: ``python examples/assembly_hex2d_rowe.py [--out DIR]`` (saves assembly_hex2d_rowe.png in
-DIR, by default a new temporary folder).
+Run: ``python examples/assembly_hex2d_rowe.py`` (prints the results and saves the figure
+in the current folder).
 """
 
 from pathlib import Path
@@ -49,10 +49,4 @@ def main(out_dir=None) -> dict:
 
 
 if __name__ == "__main__":
-    import argparse
-    import tempfile
-
-    parser = argparse.ArgumentParser(description="Rowe's stress-dilatancy, hexagonal disks.")
-    parser.add_argument("--out", metavar="DIR", help="folder for the figure (default: a new "
-                        "temporary folder)")
-    main(out_dir=parser.parse_args().out or tempfile.mkdtemp(prefix="frictionrules-"))
+    main(out_dir=".")

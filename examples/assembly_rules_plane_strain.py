@@ -4,8 +4,8 @@ non-associated and the associated Coulomb rule.
 In plane strain the inclined contacts of the associated rule slide partly along y, so the two
 rules differ in strength: σzz/σxx = 2(√6 + 2μ)/(√6 − 4μ) without dilatancy (4.8812 at
 μ = 0.3) against 4.9692 with it (docs/assembly.md).
-Run: ``python examples/assembly_rules_plane_strain.py [--out DIR]`` (saves
-assembly_rules_plane_strain.png in DIR, by default a new temporary folder).
+Run: ``python examples/assembly_rules_plane_strain.py`` (prints the results and saves the figure
+in the current folder).
 """
 
 from pathlib import Path
@@ -49,10 +49,4 @@ def main(out_dir=None) -> dict:
 
 
 if __name__ == "__main__":
-    import argparse
-    import tempfile
-
-    parser = argparse.ArgumentParser(description="Plane strain of the fcc array, two rules.")
-    parser.add_argument("--out", metavar="DIR", help="folder for the figure (default: a new "
-                        "temporary folder)")
-    main(out_dir=parser.parse_args().out or tempfile.mkdtemp(prefix="frictionrules-"))
+    main(out_dir=".")

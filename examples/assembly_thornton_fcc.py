@@ -3,8 +3,8 @@
 Coulomb contacts: the 45-degree contacts slide and those in the xy planes open at the peak
 σzz/σxx = 2(1 + μ)/(1 − μ); above μ = 1 the array never fails. The associated (dilatant) rule
 (1.6) gives the same strength and dilates faster, dεv/dεz = −(1 + 3μ)/(1 − μ) against −1.
-Run: ``python examples/assembly_thornton_fcc.py [--out DIR]`` (saves assembly_thornton_fcc.png
-in DIR, by default a new temporary folder; it prints where).
+Run: ``python examples/assembly_thornton_fcc.py`` (prints the results and saves the figure
+in the current folder).
 """
 
 from pathlib import Path
@@ -56,10 +56,4 @@ def main(out_dir=None) -> dict:
 
 
 if __name__ == "__main__":
-    import argparse
-    import tempfile
-
-    parser = argparse.ArgumentParser(description="Thornton's fcc array in axisymmetric compression.")
-    parser.add_argument("--out", metavar="DIR", help="folder for the figure (default: a new "
-                        "temporary folder)")
-    main(out_dir=parser.parse_args().out or tempfile.mkdtemp(prefix="frictionrules-"))
+    main(out_dir=".")

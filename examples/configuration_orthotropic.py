@@ -8,15 +8,20 @@ each direction is the facet set's limit load. A force ramp reaches it (force con
 displacement control follows the grain past it while the force falls (configuration
 softening), exactly and by the rate relations (3.3)-(3.13).
 
-Run: ``python examples/configuration_orthotropic.py``
+Run: ``python examples/configuration_orthotropic.py`` (prints the results and saves the
+figure in the current folder).
 """
+
+from pathlib import Path
 
 import numpy as np
 
 from frictionrules import EllipticOrthotropic, SphereOnLayer
 
 
-def main(mu_x: float = 0.2, mu_y: float = 0.4, Q: float = 1.0) -> dict:
+def main(mu_x: float = 0.2, mu_y: float = 0.4, Q: float = 1.0, out_dir=None) -> dict:
+    """Print the break-out forces, the limit point and the path; with ``out_dir``, save the
+    figure there."""
     sph = SphereOnLayer(diameter=1.0, law=EllipticOrthotropic(mu_x, mu_y), packing="square")
     directions = np.radians(np.arange(0.0, 360.0, 30.0))
     bo = sph.breakout_force(directions, Q=Q)
@@ -36,10 +41,34 @@ def main(mu_x: float = 0.2, mu_y: float = 0.4, Q: float = 1.0) -> dict:
     error = np.abs(rate.force - exact.force).max() / Q
     print(f"displacement control along the mechanism: |T| from {exact.force_magnitude[0] / Q:.4f} Q "
           f"to {exact.force_magnitude[-1] / Q:.4f} Q, rate form (Heun) within {error:.1e} Q")
+    if out_dir is not None:
+        import matplotlib.pyplot as plt
+        fig = plt.figure(figsize=(10, 4.2))
+        polar = fig.add_subplot(1, 2, 1, projection="polar")
+        fine = np.linspace(0.0, 2 * np.pi, 145)
+        polar.plot(fine, sph.breakout_force(fine, Q=Q).peak / Q, "k-")
+        polar.plot(beta, np.hypot(*lp.force) / Q, "C3o", label="limit point of the force ramp")
+        polar.set_rticks([1.0, 2.0])
+        polar.set_rlabel_position(200.0)        # in the gap of the rounded corner
+        polar.set_title("break-out force $|T|/Q$ against its direction", fontsize=9)
+        polar.legend(loc="upper center", bbox_to_anchor=(0.5, -0.08), fontsize=8)
+        a = fig.add_subplot(1, 2, 2)
+        a.plot(exact.distance, exact.force_magnitude / Q, "k-", label="exact")
+        a.plot(rate.distance, rate.force_magnitude / Q, "C0o", ms=2.5, mfc="none",
+               label="rate form (3.3)–(3.13), Heun")
+        a.set_xlabel("distance travelled $|u|/d$ along the mechanism")
+        a.set_ylabel("force to keep sliding $|T|/Q$")
+        a.set_title("configuration softening past the limit point", fontsize=9)
+        a.legend(fontsize=8)
+        fig.tight_layout()
+        path = Path(out_dir) / "configuration_orthotropic.png"
+        fig.savefig(path, dpi=110, bbox_inches="tight")
+        plt.close(fig)
+        print(f"wrote {path}")
     return {"breakout": bo.peak / Q, "limit_point": np.hypot(*lp.force) / Q,
             "start": exact.force_magnitude[0] / Q, "end": exact.force_magnitude[-1] / Q,
             "rate_error": error}
 
 
 if __name__ == "__main__":
-    main()
+    main(out_dir=".")

@@ -2,8 +2,8 @@
 
 Below A0 = A(0, β0) the contact dilates, loses real contact area and softens after a peak;
 above A0 it compacts and hardens. Both curves tend to T = m N, the critical-state line.
-Run: ``python examples/contact_fig10_shear.py [--out DIR]`` (saves contact_fig10_shear.png in
-DIR, by default a new temporary folder; it prints where).
+Run: ``python examples/contact_fig10_shear.py`` (prints the results and saves the figure
+in the current folder).
 """
 
 from pathlib import Path
@@ -34,10 +34,4 @@ def main(out_dir=None) -> dict:
 
 
 if __name__ == "__main__":
-    import argparse
-    import tempfile
-
-    parser = argparse.ArgumentParser(description="Fig. 10c: shear at two normal forces.")
-    parser.add_argument("--out", metavar="DIR", help="folder for the figure (default: a new "
-                        "temporary folder)")
-    main(out_dir=parser.parse_args().out or tempfile.mkdtemp(prefix="frictionrules-"))
+    main(out_dir=".")

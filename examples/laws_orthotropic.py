@@ -4,8 +4,8 @@ For slip directions around the circle: the directional coefficient mu(theta) of 
 law (1.15), Huber's (1.16) and the transformed law (1.17); the angle between force and slip
 (1.14); and how far each rule is from normality in the sliding plane.
 
-Run: ``python examples/laws_orthotropic.py [--out DIR]`` (prints a table and saves
-``orthotropic.png`` in DIR, by default a new temporary folder; it prints where).
+Run: ``python examples/laws_orthotropic.py`` (prints the results and saves the figure
+in the current folder).
 """
 
 from pathlib import Path
@@ -41,10 +41,4 @@ def main(out_dir=None) -> dict:
 
 
 if __name__ == "__main__":
-    import argparse
-    import tempfile
-
-    parser = argparse.ArgumentParser(description="Compare the orthotropic rules of §1.")
-    parser.add_argument("--out", metavar="DIR", help="folder for the figure (default: a new "
-                        "temporary folder)")
-    main(out_dir=parser.parse_args().out or tempfile.mkdtemp(prefix="frictionrules-"))
+    main(out_dir=".")

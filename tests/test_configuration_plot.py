@@ -58,7 +58,7 @@ def test_fig9_has_no_unexplained_marks():
     ax = plot.sphere_limit_evolution()
     assert not any(isinstance(p, Circle) for p in ax.patches)
     labels = [t.get_text() for t in ax.get_legend().get_texts()]
-    for expected in ("trajectory", "force $T$", "stations 1–6", "top of the layer sphere"):
+    for expected in ("trajectory", "force $T/Q$", "stations 1–6", "top of the layer sphere"):
         assert any(lab.startswith(expected) for lab in labels), expected
     assert sum(lab[:2] in {f"{k}:" for k in range(1, 7)} for lab in labels) == 6
     plt.close(ax.figure)
@@ -85,5 +85,5 @@ def test_pocket_polar_is_readable():
 def test_key_numbers():
     from frictionrules.configuration.summary import key_numbers
     rows = dict((q, v) for q, v, _ in key_numbers())
-    assert rows["cylinder T/Q on top of the neighbour"] == "0.3000"
-    assert float(rows["incremental (Euler) convergence order, cylinder"]) == pytest.approx(1, abs=0.1)
+    assert rows["cylinder, mu = 0.3: T/Q on top of the neighbour"] == "0.3000"
+    assert float(rows["cylinder, mu = 0.3: incremental (Euler) convergence order"]) == pytest.approx(1, abs=0.1)

@@ -11,6 +11,8 @@ from frictionrules.cli import main
 from frictionrules.contact import Path, read_path
 from frictionrules.contact.driver import COLUMNS, read_toml
 
+WITHOUT_BETA = tuple(c for c in COLUMNS if c != "beta")
+
 TOML = """
 [model]
 kn = 100.0
@@ -76,7 +78,7 @@ def test_csv_and_hdf5_round_trip(tmp_path):
     r = drive(m, [{"N": 1.0, "dt1": 0.0, "T2": 0.0, "steps": 4}, {"dt1": 0.1, "steps": 5}])
     r.write(tmp_path / "r.csv")
     data = np.genfromtxt(tmp_path / "r.csv", delimiter=",", names=True)
-    assert data.dtype.names == COLUMNS
+    assert data.dtype.names == WITHOUT_BETA     # Coulomb has no area fraction: no beta column
     np.testing.assert_allclose(data["T1"], r.force[:, 0], rtol=1e-15)
     r.write(tmp_path / "r.h5", attrs={"model": repr(m)})
     with h5py.File(tmp_path / "r.h5") as h5:
@@ -115,7 +117,7 @@ def test_cli_drive_writes_table_plot_and_progress(tmp_path, capsys):
     assert "\r" not in err and err.count("\n") == 1 and err.startswith("drive: 254/254 steps in ")
     assert "β" not in out  # Coulomb has no area fraction
     lines = (tmp_path / "o.csv").read_text().splitlines()
-    assert lines[0] == ",".join(COLUMNS) and lines[1].startswith("# units: step=1, T1=force,")
+    assert lines[0] == ",".join(WITHOUT_BETA) and lines[1].startswith("# units: step=1, T1=force,")
     assert any(line.startswith("# command: frictionrules drive") for line in lines)
     assert main(["drive", str(tmp_path / "missing.toml")]) == 2
 
@@ -123,9 +125,33 @@ def test_cli_drive_writes_table_plot_and_progress(tmp_path, capsys):
 def test_cli_drive_quiet_and_cap_beta(tmp_path, capsys):
     src = tmp_path / "d.toml"
     src.write_text(TOML.replace('type = "Coulomb"\nmu = 0.5\ndilatant = true', 'type = "EllipsoidCap"\nm = 0.6'))
-    assert main(["drive", str(src), "--quiet"]) == 0
+    assert main(["drive", str(src), "--quiet", "--out", str(tmp_path / "cap.csv")]) == 0
     out, err = capsys.readouterr()
     assert "β = " in out and err == ""
+    assert (tmp_path / "cap.csv").read_text().splitlines()[0] == ",".join(COLUMNS)
+
+
+def test_cli_drive_plot_has_a_panel_per_direction_under_the_law(tmp_path, monkeypatch):
+    """A 45° path slides along T1 and T2 alike: the figure has the three panels T1–δt1,
+    T2–δt2 and N–δn, under a title naming the law and the stiffnesses."""
+    import matplotlib.pyplot as plt
+    kept = {}
+    monkeypatch.setattr(plt, "close", lambda fig: kept.setdefault("fig", fig))
+    src = tmp_path / "d.toml"
+    from test_cli_fuzz import DRIVE
+    path45 = DRIVE.replace("dt1 = 0.05\nsteps = 3", "dt1 = 0.05\ndt2 = 0.05\nsteps = 10")
+    assert path45 != DRIVE
+    src.write_text(path45)
+    assert main(["drive", str(src), "--plot", str(tmp_path / "p.png"), "--quiet"]) == 0
+    fig = kept["fig"]
+    axes = fig.axes
+    assert [ax.get_ylabel() for ax in axes] == ["force $T_1$", "force $T_2$",
+                                                 "force $N$ (compression > 0)"]
+    title = fig.get_suptitle()
+    assert "Coulomb(mu=0.5" in title and "kn = 100, kt = 100" in title
+    T1, T2 = (ax.lines[0].get_ydata() for ax in axes[:2])
+    np.testing.assert_allclose(T1, T2, atol=1e-12)        # the 45° path
+    assert T2.max() == pytest.approx(0.5 / np.sqrt(2.0), rel=1e-6)   # mu N along 45°
 
 
 def test_cli_drive_checks_outputs_before_the_run(tmp_path, capsys, monkeypatch):

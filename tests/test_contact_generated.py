@@ -156,7 +156,7 @@ def test_user_law_at_the_apex_is_finite():
 def test_kernel_layout_is_the_codegen_layout(nq):
     """The compiled kernel's offsets are those of the one layout the code generator writes."""
     from frictionrules.codegen import local_layout
-    from frictionrules.contact._return_kernel import _layout
+    from frictionrules.contact._kernel_law import _layout
     layout = local_layout(nq)
     names = ("df", "dfq", "dg", "hgg", "hgq", "h", "dhs", "dhq")
     size = sum(int(np.prod(shape)) for _, shape in layout.values())
@@ -215,3 +215,68 @@ def test_compiled_entry_with_substeps_is_the_numpy_return(name, scales):
         np.testing.assert_allclose(res[:, RES_DISSIPATION], ref.dissipation, rtol=0,
                                    atol=1e-9 * F * scale)
         state = ref.state
+
+
+@pytest.mark.parametrize("compiled", [False, True])
+def test_kink_rule_is_one_on_every_path(compiled):
+    """The Huber ellipse f = |T| - N μ(θ) (1.16) written as a user law is 0/0 at T = 0. By
+    the one kink rule (frictionrules._returnspec: the largest f on a circle of radius
+    1e-9 (|T| + |N|) around T, here r - 0.3 N < 0) a pure compression is elastic, with and
+    without the compiled return, as for the built-in Huber law: force (0, 0, kn δ), tangent E."""
+    user = UserLaw("sqrt(T1**2+T2**2) - N*(0.3*T1**2+0.5*T2**2)/(T1**2+T2**2)",
+                   "sqrt(T1**2+T2**2)")
+    for law in (user, Huber(0.3, 0.5)):
+        model = ContactModel(law, kn=1, kt=1)
+        r = model.update(model.initial_state(), [0, 0, -0.1], tangent=True, compiled=compiled)
+        assert int(r.status) == 0
+        assert np.array_equal(r.force, [0.0, 0.0, 0.1])
+        assert np.array_equal(r.tangent, np.diag([1.0, 1.0, -1.0]))
+
+
+#: A Drucker–Prager-like user cone with a non-associated dilatant rule: its flow direction
+#: (-D∇g) does not turn along the return, as for Coulomb.
+DP_CONE = UserLaw("sqrt(T1**2 + T2**2) - 0.5*N", potential="sqrt(T1**2 + T2**2) - 0.2*N")
+
+
+@pytest.mark.parametrize("law, kind, linear", [
+    (Coulomb(0.4), "radial", True), (Coulomb(0.4, dilatant=True), "radial", True),
+    (UserLaw("sqrt(T1**2 + T2**2) - 0.4*N", potential="sqrt(T1**2 + T2**2)"), "radial", True),
+    (DP_CONE, "radial", True), (LAWS["coulomb_hardening"], "radial", False),
+    (EllipticOrthotropic(0.3, 0.6, angle=0.4), "elliptic", False),
+    (LAWS["cap"], "generic", False), (LAWS["wedge"], "generic", False)])
+def test_return_structure_recognised_from_the_symbolic_form(law, kind, linear):
+    """Radial: ∂_v ∇g = 0 and ∂_v h = 0 along v = (-D∇g, h) (closed form where ∂_v ∇f = 0 too);
+    elliptic: g = √(TᵀAT), ∇_T f = c ∇_T g."""
+    from frictionrules._returnspec import RETURN_ELLIPTIC, RETURN_GENERIC, RETURN_RADIAL
+    from frictionrules.codegen import return_structure
+    s = return_structure(form_of(law))
+    assert s.kind == {"radial": RETURN_RADIAL, "elliptic": RETURN_ELLIPTIC,
+                      "generic": RETURN_GENERIC}[kind]
+    assert s.linear == linear
+
+
+@pytest.mark.parametrize("law", [Coulomb(0.4), Coulomb(0.4, dilatant=True), DP_CONE,
+                                 LAWS["coulomb_hardening"],
+                                 EllipticOrthotropic(0.3, 0.6, angle=0.4)])
+def test_special_returns_equal_the_newton_return(law):
+    """The radial and elliptic returns against the general Newton return of the same compiled
+    kernel (the law's row with the return kind set to the general one), to 1e-12, on random
+    increments from a loaded state — elastic, plastic, open and through the apex included."""
+    from frictionrules.contact._generated import generated_kernel, law_row
+    from frictionrules.contact.layout import RET_KIND
+    model = ContactModel(law, kn=KN, kt=KT)
+    rng = np.random.default_rng(5)
+    n = 4000
+    q = model._q(model.initial_state(n))
+    e = np.column_stack((rng.normal(0, 0.003, (n, 2)), -np.abs(rng.normal(0, 0.01, n))))
+    S = np.ascontiguousarray(np.concatenate((e, np.zeros((n, 3)), q), axis=1))
+    DU = rng.normal(0, 0.01, (n, 3))
+    kernel = generated_kernel(law)
+    row = law_row(law, KT, KN)
+    general = row.copy()
+    general[RET_KIND] = 0
+    a, b = kernel.run(row, S, DU, True), kernel.run(general, S, DU, True)
+    assert (a[2] == PLASTIC).sum() > n // 4
+    np.testing.assert_array_equal(a[2], b[2])
+    for x, y in zip((a[0], a[1], a[4]), (b[0], b[1], b[4])):
+        np.testing.assert_allclose(x, y, rtol=1e-12, atol=1e-12 * np.abs(y).max())

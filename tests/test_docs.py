@@ -170,23 +170,106 @@ def test_every_page_is_collected():
 BUILD = "python -m sphinx -W -b html docs docs/_build/html"
 
 
-def test_docs_site_builds_offline_without_warnings(tmp_path):
-    """The README's command builds the site (API pages, guide, gallery); -W: no warning.
-    The examples are not run again here (tests/test_examples.py runs them)."""
+@pytest.fixture(scope="module")
+def site(tmp_path_factory):
+    """The site built by the README's command (-W: no warning), the gallery's examples run."""
     assert BUILD in (ROOT / "README.md").read_text()
-    out = tmp_path / "html"
+    tmp = tmp_path_factory.mktemp("site")
+    out = tmp / "html"
     argv = BUILD.split()[1:-1] + [str(out)]
-    env = dict(os.environ, FRICTIONRULES_DOCS_EXAMPLES="0")
-    proc = subprocess.run([sys.executable, *argv, "-q", "-d", str(tmp_path / "doctrees")], cwd=ROOT,
-                          env=env, capture_output=True, text=True, timeout=900)
+    env = dict(os.environ, FRICTIONRULES_DOCS_EXAMPLES="1")
+    proc = subprocess.run([sys.executable, *argv, "-q", "-d", str(tmp / "doctrees")], cwd=ROOT,
+                          env=env, capture_output=True, text=True, timeout=1800)
     assert proc.returncode == 0, proc.stderr[-5000:]
+    return out
+
+
+def test_docs_site_builds_offline_without_warnings(site):
+    """The README's command builds the site (API pages, guide, gallery) without a warning."""
     import frictionrules
-    api = "".join(p.read_text() for p in (out / "api").glob("*.html"))
+    api = "".join(p.read_text() for p in (site / "api").glob("*.html"))
     undocumented = [n for n in frictionrules.__all__ if f'id="frictionrules.{n}"' not in api]
     assert not undocumented, f"no API entry for {undocumented}"
     examples = sorted(p.stem for p in (ROOT / "examples").glob("*.py"))
-    assert sorted(p.stem for p in (out / "gallery").glob("*.html")) == sorted(examples + ["index"])
-    assert "frictionrules solve" in (out / "api" / "cli.html").read_text()
+    assert sorted(p.stem for p in (site / "gallery").glob("*.html")) == sorted(examples + ["index"])
+    assert "frictionrules solve" in (site / "api" / "cli.html").read_text()
+
+
+#: Chromium, headless, with nothing of its own started (no network, sync, updates).
+CHROMIUM_FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+                  "--disable-background-networking", "--disable-component-update",
+                  "--disable-sync", "--window-size=1280,1000", "--virtual-time-budget=10000"]
+#: Measured in the browser once the page and its images have loaded: every image of the text
+#: (its natural and shown width, and the width of the text column), every code or output
+#: block (the width of its content and of its box).
+_MEASURE = """
+<script>
+window.addEventListener("load", function () {
+  var body = document.querySelector("div.body"), out = {images: [], blocks: []};
+  body.querySelectorAll("img").forEach(function (i) {
+    out.images.push({src: i.getAttribute("src"), natural: i.naturalWidth,
+                     shown: i.getBoundingClientRect().width, column: body.clientWidth});
+  });
+  body.querySelectorAll("pre").forEach(function (p) {
+    out.blocks.push({text: p.textContent.slice(0, 60), content: p.scrollWidth, box: p.clientWidth});
+  });
+  var e = document.createElement("pre");
+  e.id = "frictionrules-layout";
+  e.textContent = JSON.stringify(out);
+  document.body.appendChild(e);
+});
+</script>
+"""
+
+
+def chromium() -> str:
+    """The Chromium of the machine; skips without it, except in CI (CI=true), where .ci/run
+    installs the Debian package ``chromium``."""
+    path = shutil.which("chromium") or shutil.which("chromium-browser")
+    if path is None:
+        if os.environ.get("CI") == "true":
+            pytest.fail("chromium is missing on CI: .ci/run installs the Debian package")
+        pytest.skip("no chromium on this machine (apt-get install chromium)")
+    return path
+
+
+def layout(page: Path, browser: str, profile: Path) -> dict:
+    """What Chromium shows of ``page``: a copy of it beside it (same relative links) with the
+    measuring script appended, opened headless, its DOM read back."""
+    probe = page.with_name(page.stem + ".layout-check.html")
+    probe.write_text(page.read_text().replace("</body>", _MEASURE + "</body>"))
+    try:
+        proc = subprocess.run([browser, *CHROMIUM_FLAGS, f"--user-data-dir={profile}",
+                               "--dump-dom", probe.as_uri()], capture_output=True, text=True,
+                              timeout=120)
+    finally:
+        probe.unlink()
+    found = re.search(r'<pre id="frictionrules-layout">(.*?)</pre>', proc.stdout, re.S)
+    assert found, f"{page.name}: no measurement from chromium ({proc.stderr[-500:]})"
+    import html
+    return json.loads(html.unescape(found.group(1)))
+
+
+def test_gallery_pages_show_their_figures_in_a_browser(site, tmp_path):
+    """Every gallery page, opened in headless Chromium at 1280 px: at least one figure, loaded
+    and no wider than the text; no code or output line running past the right edge of its box;
+    no path of the build machine in what the examples print."""
+    browser = chromium()
+    pages = sorted(p for p in (site / "gallery").glob("*.html") if p.stem != "index")
+    assert len(pages) == len(list((ROOT / "examples").glob("*.py")))
+    machine = re.compile(re.escape(str(ROOT.parent)) + r"|/tmp/|" + re.escape(str(Path.home())))
+    for page in pages:
+        seen = layout(page, browser, tmp_path / "profile")
+        figures = [i for i in seen["images"] if i["src"].startswith("../_images/")
+                   or "figures/" in i["src"]]
+        assert figures, f"{page.name}: no figure"
+        for image in figures:
+            assert image["natural"] > 100, f"{page.name}: {image['src']} did not load"
+            assert image["shown"] <= image["column"] + 1, f"{page.name}: {image['src']} too wide"
+        wide = [b for b in seen["blocks"] if b["content"] > b["box"] + 1]
+        assert not wide, f"{page.name}: a line runs past its box: {wide[0]}"
+        text = re.sub(r"<[^>]+>", "", page.read_text())
+        assert not machine.search(text), f"{page.name}: {machine.search(text).group(0)}"
 
 
 def test_gallery_page_shows_what_the_example_prints_and_draws(tmp_path):

@@ -119,7 +119,7 @@ def test_cli_toml_user_law_with_hardening(tmp_path):
     (["user", "--limit", "sqrt(T1^2 + T2^2) - mu*N + foo", "--param", "mu=0.3"], "'foo'"),
     (["user", "--limit", "sqrt(T1^2 + T2^2) - mu*N"], "'mu'"),
     (["coulomb"], "--mu"),
-    (["facets.toml"], "symbolic"),
+    (["facets.toml"], "unknown law 'FacetSet'"),      # not a law of the table
     (["nosuchlaw"], "LAW_SPEC"),
     (["coulomb", "--mu", "0.3", "--dilatant"], "abaqus-uinter"),
 ])

@@ -194,12 +194,13 @@ def _fric_path(fric, res, model, path, nfdir, calls):
 
 
 @pytest.mark.parametrize("key, nfdir", [("coulomb", 2), ("elliptic", 2), ("nonassoc", 2),
-                                        ("hardening", 2), ("coulomb", 1), ("nonassoc", 1),
-                                        ("hardening", 1)])
+                                        ("hardening", 2), ("coulomb", 1), ("elliptic", 1),
+                                        ("nonassoc", 1), ("hardening", 1)])
 def test_fric_matches_contact_model_at_the_pressure(key, nfdir, frics):
     """FRIC called like Abaqus (3 calls per increment, LM carried, random pressures with
     openings) against the model driven to the same pressure: TAU, the condensed tangent
-    DDTDDG, DDTDDP and the internal variables."""
+    DDTDDG, DDTDDP and the internal variables. In 2-D (NFDIR = 1) the model moves with
+    δt2 ≡ 0: no relative motion out of the plane."""
     fric, res = frics(key)
     model = _model(key)
     n = nfdir

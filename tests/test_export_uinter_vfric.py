@@ -10,7 +10,8 @@ the law's inverse relation (1.8) times the normal force, bounded by the stick fo
 import numpy as np
 import pytest
 
-from _export_harness import Uinter, Vfric, compile_fortran, fpe_traps
+import frictionrules as fr
+from _export_harness import Fric, Uinter, Vfric, compile_fortran, fpe_traps
 from test_export_compiled import KN, KT, PATHS, STEPS, _built, _close, _model, _path
 
 #: STRESS index -> (T1, T2, N) index; RDISP index -> (δt1, δt2, δn) index and sign.
@@ -36,7 +37,7 @@ def uinters(tmp_path_factory):
 
 
 @pytest.mark.parametrize("key, ndir", [("dilatant", 3), ("wedge", 3), ("cap", 3), ("coulomb", 3),
-                                       ("dilatant", 2), ("wedge", 2), ("cap", 2)])
+                                       ("dilatant", 2), ("wedge", 2), ("cap", 2), ("elliptic", 2)])
 def test_uinter_matches_contact_model(key, ndir, uinters):
     u, res = uinters(key)
     model = _model(key)
@@ -140,3 +141,41 @@ def test_vfric_2d_and_zero_normal_force(tmp_path_factory):
         f, _ = v.call(np.zeros((1, 3)), res.props, slip * 0.01, np.full(3, 1e3),
                       np.array([2.0, 1.0, 0.0]), normal, slip, 1)
     assert np.allclose(f[0], [-0.6, -0.3, 0.0], rtol=1e-12, atol=0)
+
+
+#: Steady sliding along local direction 1 in 2-D at pressure 1 of the turned orthotropic law
+#: (1.16): the force along the slip is the dissipation per unit slip and pressure,
+#: D(t1)/N = √(μx² cos² a + μy² sin² a) (the support function of the ellipse), not the
+#: section of the ellipse by T2 = 0.
+TURNED = fr.EllipticOrthotropic(0.6, 0.3, angle=0.4)
+TAU_2D = np.sqrt(0.6**2 * np.cos(0.4) ** 2 + 0.3**2 * np.sin(0.4) ** 2)
+
+
+@pytest.mark.parametrize("target", ["abaqus-fric", "abaqus-uinter", "abaqus-vfric"])
+def test_2d_steady_sliding_has_no_motion_out_of_the_plane(target, tmp_path):
+    """FRIC (NFDIR = 1), UINTER (NDIR = 2) and VFRIC (nDir = 2) of EllipticOrthotropic(0.6,
+    0.3, angle=0.4), kt = 100: steady sliding at pressure 1 gives TAU = 0.5648."""
+    res = fr.export(TURNED, target, tmp_path, kt=100.0, kn=1000.0, name="turned")
+    lib = compile_fortran(tmp_path, f"turned_{target.split('-')[1]}.f")
+    with fpe_traps():
+        if target == "abaqus-fric":
+            fric, statev, tau = Fric(lib), np.zeros(res.nstatv), np.zeros(1)
+            for _ in range(200):
+                _, tau, *_, statev = fric.call(0, tau, statev, [0.01], 1.0, 0.0, res.props, 1)
+            force = abs(tau[0])
+        elif target == "abaqus-uinter":
+            u, statev = Uinter(lib), np.zeros(res.nstatv)
+            rdisp = np.array([1e-3, 0.0])
+            stress, _, statev, *_ = u.call(statev, rdisp, rdisp, res.props, 2)
+            assert stress[0] == pytest.approx(1.0, rel=1e-12)
+            for _ in range(200):
+                rdisp = rdisp + [0.0, 0.01]
+                stress, _, statev, *_ = u.call(statev, rdisp, [0.0, 0.01], res.props, 2)
+            force = abs(stress[1])
+        else:
+            f, _ = Vfric(lib).call(np.zeros((max(res.nstatv, 1), 1)), res.props,
+                                   [[0.01], [0.0]], [1e3], [1.0], [[0.0], [1.0]],
+                                   [[1.0], [0.0]], 1)
+            force = abs(f[0, 0])
+    assert round(TAU_2D, 4) == 0.5648
+    assert force == pytest.approx(TAU_2D, rel=1e-10)

@@ -48,7 +48,7 @@ def test_problem_refuses_a_law_without_cone():
 
 def test_declared_capabilities_of_the_built_in_laws():
     assert Coulomb(0.3).capabilities == {"symbolic", "cone", "closed_form_return"}
-    assert EllipticOrthotropic(0.3, 0.5).capabilities == {"symbolic", "cone", "closed_form_return"}
+    assert EllipticOrthotropic(0.3, 0.5).capabilities == {"symbolic", "cone"}
     assert Huber(0.3, 0.5).capabilities == {"symbolic"}
     assert TransformedCoulomb(0.3, 0.5).capabilities == {"symbolic"}
     assert WedgeAsperity(0.3, 0.5).capabilities == {"symbolic"}

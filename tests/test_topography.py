@@ -11,9 +11,9 @@ import warnings
 import numpy as np
 import pytest
 
-from frictionrules import (Coulomb, EllipticOrthotropic, FrictionRulesError, ScaleStudy,
-                           SurfaceFriction, from_heightmap, from_profile, from_topography,
-                           scale_study)
+from frictionrules import (Coulomb, EllipticOrthotropic, FrictionRulesError, Huber, ScaleStudy,
+                           SurfaceFriction, UserLaw, from_heightmap, from_profile,
+                           from_topography, scale_study)
 from frictionrules.asperities.surfaces import heightmap_gradients, self_affine_surface
 
 MU = 0.3
@@ -275,8 +275,13 @@ def test_local_law_is_an_argument():
     np.testing.assert_array_equal(a.mu, b.mu)
     c = quiet(Topo(h), Coulomb(0.4, dilatant=True), n=12)
     assert c.law.local == "associated" and np.all(c.mu >= a.mu * (1 - 1e-6))
-    with pytest.raises(FrictionRulesError, match="Coulomb local law"):
+    # any law whose cone is Coulomb's, not only the class: a user law written for it
+    user = UserLaw("sqrt(T1**2 + T2**2) - mu*N", "sqrt(T1**2 + T2**2)", params={"mu": 0.4})
+    np.testing.assert_array_equal(quiet(Topo(h), user, n=12).mu, a.mu)
+    with pytest.raises(FrictionRulesError, match="isotropic Coulomb cone"):
         from_topography(Topo(h), EllipticOrthotropic(0.4, 0.3))
+    with pytest.raises(FrictionRulesError, match="isotropic Coulomb cone"):
+        from_topography(Topo(h), Huber(0.4, 0.4))          # no cone capability
 
 
 def test_from_topography_records_its_settings():

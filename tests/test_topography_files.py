@@ -1,6 +1,6 @@
 """Instrument files read with SurfaceTopography (the ``surfaces`` extra) into friction laws.
 
-The three files in ``../shared/surfaces/`` (an AFM map, an X3P map with non-square pixels, a
+The three files in ``../shared/surfaces/`` or ``$FRICTIONRULES_SURFACES`` (an AFM map, an X3P map with non-square pixels, a
 stylus profile). Without them or without SurfaceTopography these tests skip, except on CI
 (``CI=true``), where they fail: the data and the extra are part of the test setup.
 """
@@ -18,6 +18,8 @@ from frictionrules import FrictionRulesError, from_topography, read_surface
 from frictionrules.cli import main
 
 SURFACES = Path(__file__).resolve().parents[1].parent / "shared" / "surfaces"
+if not SURFACES.is_dir():
+    SURFACES = Path(os.environ.get("FRICTIONRULES_SURFACES", SURFACES))
 FILES = ("di-1.di", "x3p-2.x3p", "opdx-3.opdx")
 MU = 0.3
 

@@ -8,10 +8,12 @@ At ``builder-inited`` it writes (only files whose text changed, so rebuilds stay
   the ``--help`` of every subcommand. A name of ``frictionrules.__all__`` that no page
   documents is a warning (and so an error under ``-W``).
 * ``gallery/<example>.md``: one page per script of ``examples/``: its docstring, its source,
-  what it prints and the figures it makes, from running it in an empty folder (in parallel,
-  with a time limit). An example that needs data not present (the FCLIB problems beside the
-  repository) says so on its page. ``FRICTIONRULES_DOCS_EXAMPLES=0`` builds the pages without
-  running the examples (the test suite does, since ``tests/test_examples.py`` runs them).
+  what it prints and the figures it makes, from running it as ``python examples/NAME.py`` in
+  an empty folder (in parallel, with a time limit): every example saves its figures in the
+  current folder and names them relatively, so the page shows each figure and no path of the
+  build machine. An example that needs data not present (the FCLIB problems or the measured
+  surfaces beside the repository) says so on its page. ``FRICTIONRULES_DOCS_EXAMPLES=0``
+  builds the pages without running the examples.
 
 Both folders are generated: they are git-ignored and never edited by hand.
 """
@@ -46,7 +48,13 @@ SKIP = {"cli", "paper"}
 #: A short description of the names that are not classes or functions.
 DATA = {"T1": "SymPy symbol of the tangential force T1, for user laws (SymPy loads on first use).",
         "T2": "SymPy symbol of the tangential force T2, for user laws.",
-        "N": "SymPy symbol of the normal force N, for user laws."}
+        "N": "SymPy symbol of the normal force N, for user laws.",
+        "LAWS": "The law table (read-only): short name -> ``LawEntry`` (the class, its "
+                "parameters with meaning, unit and bounds).",
+        "EXPORT_TARGETS": "The export targets (read-only): name -> ``ExportTarget`` (title, "
+                          "the files written, the writer, what it can express)."}
+#: The API page of a name of :data:`DATA` not on the ``laws`` page.
+DATA_HOME = {"EXPORT_TARGETS": "_export"}
 EXAMPLE_TIMEOUT = 600
 
 
@@ -69,7 +77,7 @@ def _subpackages() -> list[str]:
 def _home(obj, name: str) -> str | None:
     """The subpackage of ``frictionrules`` that defines ``obj`` (``laws`` for a SymPy symbol)."""
     if name in DATA:
-        return "laws"
+        return DATA_HOME.get(name, "laws")
     module = getattr(obj, "__module__", "") or ""
     parts = module.split(".")
     return parts[1] if len(parts) > 1 and parts[0] == "frictionrules" else None
@@ -179,16 +187,22 @@ def _run_example(script: Path) -> tuple[str, str, list[Path], Path]:
         return "timeout", "", [], folder
     figures = sorted(folder.rglob("*.png"))
     if proc.returncode == 0:
-        return "ok", proc.stdout, figures, folder
+        return "ok", proc.stdout.replace(f"{folder}{os.sep}", ""), figures, folder
     last = (proc.stderr.strip().splitlines() or [""])[-1]
     return "failed", last, figures, folder
 
 
+#: Data an example may read, beside the repository: folder of ../shared -> the variable that
+#: points elsewhere.
+DATA_FOLDERS = {"fclib": "FRICTIONRULES_FCLIB", "surfaces": "FRICTIONRULES_SURFACES"}
+
+
 def _needs_missing_data(script: Path) -> bool:
-    """True for the FCLIB example when the problem files are not beside the repository."""
+    """True for an example that reads the FCLIB problems or the measured surfaces of
+    ``../shared`` when they are not there (nor where their variable points)."""
     text = script.read_text()
-    return "fclib" in text and not (ROOT.parent / "shared" / "fclib").is_dir() and \
-        not os.environ.get("FRICTIONRULES_FCLIB")
+    return any(f'"{name}"' in text and not (ROOT.parent / "shared" / name).is_dir()
+               and not os.environ.get(variable) for name, variable in DATA_FOLDERS.items())
 
 
 def _example_page(script: Path, status: str, output: str, figures: list[str]) -> str:
@@ -208,8 +222,8 @@ def _example_page(script: Path, status: str, output: str, figures: list[str]) ->
         parts += ["## Output", "", "Not run in this build (`FRICTIONRULES_DOCS_EXAMPLES=0`); "
                   "`tests/test_examples.py` runs it.", ""]
     elif status == "skipped":
-        parts += ["## Output", "", "Not run here: it reads the FCLIB problem files, which were not "
-                  "found beside the repository (`../shared/fclib`).", ""]
+        parts += ["## Output", "", "Not run here: it reads data files (FCLIB problems or measured "
+                  "surfaces) that were not found beside the repository (`../shared`).", ""]
     return "\n".join(parts)
 
 

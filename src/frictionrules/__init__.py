@@ -6,6 +6,7 @@ multi-contact solvers. The public API is re-exported here; the SymPy symbols ``T
 for user laws are imported lazily (SymPy loads on first use).
 """
 
+from ._version import __version__
 from .errors import FrictionRulesError
 from .laws import (
     Cone,
@@ -13,10 +14,12 @@ from .laws import (
     EllipsoidCap,
     EllipticOrthotropic,
     FrictionLaw,
+    LAWS,
     HardenedLaw,
     Huber,
     InverseRelation,
     LawState,
+    LawTraits,
     RuleComparison,
     SlipHardening,
     SymbolicLaw,
@@ -24,6 +27,9 @@ from .laws import (
     UserLaw,
     WedgeAsperity,
     compare_rules,
+    law_from_mapping,
+    law_to_toml,
+    read_law,
 )
 # asperity mechanisms, real surfaces and calibration (§2)
 from .asperities import FacetSet, TwoFlankAsperity, fit, from_heightmap, from_profile
@@ -32,13 +38,14 @@ from .asperities import (FitResult, FittedParameter, ScaleStudy, SurfaceFriction
 # multi-contact problems and FCLIB files; frictionrules.io is the FCLIB module
 from .io import read_fclib, write_fclib
 from .multicontact import (ADMMOptions, FrictionContactProblem, IterationInfo, NewtonOptions,
-                           NSGSOptions, ProxOptions, RelaxationComparison, Solution, SolveRecord,
-                           compare_relaxation, solve, solve_many)
+                           NSGSOptions, PolishOptions, ProxOptions, RelaxationComparison, Solution,
+                           compare_relaxation, solve)
+from .batch import SolveRecord, solve_many
 from .parallel import SweepPoint, sweep
 # elastic-plastic contact with hardening and softening (§4)
 from .contact import ContactModel, ContactState, DriveResult, UpdateResult, drive
 # export to finite-element codes (Abaqus user subroutines, C)
-from ._export import ExportResult, export
+from ._export import EXPORT_TARGETS, ExportResult, export
 # configuration softening: grains sliding over layers (§3)
 from .configuration import (
     CylinderOnLayer,
@@ -52,8 +59,6 @@ from .configuration import (
 )
 # grain assemblies: many grains, a law at every contact (§5, (4.12))
 from .assembly import Assembly, ContactSnapshot, SampleState, TriaxialResult, load_cell, triaxial
-
-__version__ = "0.1.0"
 
 __all__ = [
     "FrictionRulesError",
@@ -86,6 +91,11 @@ __all__ = [
     "Cone",
     "SlipHardening",
     "HardenedLaw",
+    "LawTraits",
+    "LAWS",
+    "read_law",
+    "law_from_mapping",
+    "law_to_toml",
     "T1",
     "T2",
     "N",
@@ -99,6 +109,7 @@ __all__ = [
     "NewtonOptions",
     "ProxOptions",
     "ADMMOptions",
+    "PolishOptions",
     "IterationInfo",
     "solve_many",
     "SolveRecord",
@@ -116,6 +127,7 @@ __all__ = [
     # export to finite-element codes
     "export",
     "ExportResult",
+    "EXPORT_TARGETS",
     # configuration softening (§3)
     "CylinderOnLayer",
     "SphereOnLayer",

@@ -11,6 +11,8 @@ line and exits with code 2 (:func:`missing_module_message` turns an unguarded
 from __future__ import annotations
 
 import importlib
+import importlib.util
+from collections.abc import Iterable
 from types import ModuleType
 
 from .errors import FrictionRulesError
@@ -24,6 +26,9 @@ EXTRAS: dict[str, str] = {
     "scipy": "solvers",
     "h5py": "hdf5",
     "matplotlib": "figures",
+    "threadpoolctl": "solvers",
+    "distributed": "dask",
+    "SurfaceTopography": "surfaces",
 }
 
 
@@ -63,6 +68,34 @@ def require(name: str, *, extra: str | None = None, purpose: str | None = None) 
         detail = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
         raise FrictionRulesError(f"{top} is installed but cannot be imported ({detail}); "
                                  f"reinstall it: {install_hint(extra)}") from None
+
+
+def installed(name: str) -> bool:
+    """Whether module ``name`` can be found (without importing it)."""
+    try:
+        return importlib.util.find_spec(name) is not None
+    except (ModuleNotFoundError, ValueError):   # a parent package missing, or no spec
+        return False
+
+
+def require_all(names: Iterable[str], *, purpose: str, extra: str | None = None) -> None:
+    """Check that every module of ``names`` is installed, before any work starts.
+
+    Raises
+    ------
+    FrictionRulesError
+        One line naming every missing package and the one ``pip install`` command that
+        installs them all: ``extra`` when given, else the extras of :data:`EXTRAS`.
+    """
+    missing = [name for name in dict.fromkeys(names) if not installed(name)]
+    if not missing:
+        return
+    extras = [extra] if extra else sorted({EXTRAS.get(n.partition(".")[0], "all") for n in missing})
+    packages = missing[0] if len(missing) == 1 else (
+        f"{', '.join(missing[:-1])} and {missing[-1]}")
+    verb = "is" if len(missing) == 1 else "are"
+    raise FrictionRulesError(f"{purpose} needs {packages}, which {verb} not installed: "
+                             f"{install_hint(','.join(extras))}")
 
 
 def missing_module_message(exc: ModuleNotFoundError) -> str | None:

@@ -33,8 +33,9 @@ def check_finite(name: str, value) -> np.ndarray:
         arr = np.asarray(value, dtype=float)
     except (TypeError, ValueError) as exc:
         raise FrictionRulesError(f"{name} = {value!r} is not a real number or array") from exc
-    if np.isfinite(np.sum(arr)):  # one fast pass: a finite sum has no NaN or inf term
-        return arr
+    with np.errstate(over="ignore"):    # a sum of huge finite terms may overflow: then look
+        if np.isfinite(np.sum(arr)):    # one fast pass: a finite sum has no NaN or inf term
+            return arr
     bad = ~np.isfinite(arr)
     if bad.any():
         raise FrictionRulesError(f"{_describe(name, arr, bad)} violates: must be finite")

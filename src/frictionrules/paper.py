@@ -18,7 +18,7 @@ import importlib
 from dataclasses import dataclass
 from pathlib import Path
 
-from ._optional import require
+from ._optional import require_all
 from ._output import FIGURE_SUFFIXES, provenance, write_figure, write_text
 from .contact.summary import FIG10
 
@@ -27,10 +27,10 @@ REQUIRES: tuple[str, ...] = ("matplotlib", "numba", "scipy", "sympy")
 
 
 def check_requirements() -> None:
-    """Raise one :class:`~frictionrules.FrictionRulesError` line naming the ``paper`` extra
-    if any package of :data:`REQUIRES` is missing, before any work starts."""
-    for name in REQUIRES:
-        require(name, extra="paper", purpose="frictionrules paper")
+    """Raise one :class:`~frictionrules.FrictionRulesError` line naming every missing package
+    of :data:`REQUIRES` and the ``paper`` extra, before any work starts."""
+    require_all(REQUIRES, extra="paper", purpose="frictionrules paper")
+
 
 #: Folder of the paper's figures and of the figures beyond the paper, under the output folder.
 PAPER, EXTRA = "paper", "extra"
@@ -106,7 +106,7 @@ FIGURES: tuple[Figure, ...] = (
            "and B, the peaks A′, B′, the asymptotic points A_c, B_c and the lines through them "
            f"({FIG10.describe()})."),
     Figure(PAPER, "fig10b_cap_hardening", _P + "contact:cap_hardening",
-           "FIG. 10b. Variation of the characteristic contact function A(β, κ) with β and κ "
+           "FIG. 10b. Variation of the characteristic contact function A(κ, β) with β and κ "
            f"(p = {FIG10.p:g}, h = {FIG10.h:g}, κh = {FIG10.kappa_h:g})."),
     Figure(PAPER, "fig10c_cap_shear_curves", _P + "contact:cap_shear_curves",
            "FIG. 10c. Tangential force–displacement curves for fixed values of N: test A "
@@ -198,7 +198,7 @@ def write_index(out_dir) -> Path:
     """Write ``out_dir/index.md``: every registered figure found in ``out_dir``, with its files
     and caption, the paper's first."""
     out_dir = Path(out_dir)
-    from . import __version__
+    from ._version import __version__
     lines = ["# Figures", "",
              f"Made by `frictionrules paper` (frictionrules {__version__}). `{PAPER}/`: the figures "
              "of Michałowski & Mróz (1978), numbered as in the paper, computed by the library; "
@@ -226,12 +226,39 @@ def key_numbers() -> list[tuple[str, str, str]]:
     return rows
 
 
-def format_table(rows) -> str:
-    """Plain-text table of ``(quantity, value, reference)`` rows."""
+#: Widest line of :func:`format_table` (a terminal of 100 columns shows it unwrapped).
+TABLE_WIDTH = 100
+
+
+def format_table(rows, width: int = TABLE_WIDTH) -> str:
+    """Plain-text table of ``(quantity, value, reference)`` rows, no line wider than ``width``.
+
+    Consecutive rows whose quantities start with the same subject (``"wedge alpha=30 deg, mu=0.5:
+    limit curve"``) are listed under that subject; a cell too long for its column continues on
+    the next lines of its row.
+    """
+    import textwrap
     head = ("quantity", "value", "paper")
     rows = [tuple(map(str, r)) for r in rows]
-    widths = [max(len(r[i]) for r in [head, *rows]) for i in range(3)]
+    entries = []                                    # (heading or None, row)
+    for k, (quantity, value, ref) in enumerate(rows):
+        subject, sep, rest = quantity.partition(": ")
+        shared = sep and any(rows[j][0].startswith(subject + ": ") for j in (k - 1, k + 1)
+                             if 0 <= j < len(rows))
+        entries.append((subject if shared else None, ("  " + rest if shared else quantity, value, ref)))
+    natural = [max(len(r[i]) for r in [head, *(row for _, row in entries)]) for i in range(3)]
+    value_w, ref_w = min(natural[1], 30), min(natural[2], 18)
+    widths = [min(natural[0], width - value_w - ref_w - 4), value_w, ref_w]
     line = "  ".join("{:<%d}" % w for w in widths)
     out = [line.format(*head), line.format(*("-" * w for w in widths))]
-    out += [line.format(*r) for r in rows]
+    previous = None
+    for heading, row in entries:
+        if heading is not None and heading != previous:
+            out.append(textwrap.shorten(heading, width))
+        previous = heading
+        indent = "    " if row[0].startswith("  ") else "  "
+        cells = [textwrap.wrap(cell, w, subsequent_indent=indent if i == 0 else "  ") or [""]
+                 for i, (cell, w) in enumerate(zip(row, widths))]
+        for j in range(max(map(len, cells))):
+            out.append(line.format(*(c[j] if j < len(c) else "" for c in cells)))
     return "\n".join(r.rstrip() for r in out)

@@ -54,6 +54,7 @@ def export(law, target: str, out_dir, *, kt, kn=None, hardening=None, name=None)
     law : FrictionLaw
         Any law with a symbolic form (built-in laws, :class:`~frictionrules.UserLaw`, the cap).
     target : {"abaqus-fric", "abaqus-vfric", "abaqus-uinter", "c"}
+        A name of :data:`frictionrules.EXPORT_TARGETS` (what each writes and can express).
         ``abaqus-fric``: tangential return map at the pressure Abaqus passes (laws whose sliding
         rule has no normal part); ``abaqus-uinter``: the whole interface law with the normal
         penalty ``kn``; ``abaqus-vfric``: explicit, the inverse relation of a conical law times
@@ -84,22 +85,19 @@ def export(law, target: str, out_dir, *, kt, kn=None, hardening=None, name=None)
         nothing is written then.
     """
     from .._output import write_text
-    from ._files import readme, readme_name, snippet
+    from ._files import readme, snippet
     from ._spec import law_spec
-    from ._targets import TARGETS, write_c, write_fric, write_uinter, write_vfric
-    if target not in TARGETS:
-        raise FrictionRulesError(f"target = {target!r} violates: one of {', '.join(TARGETS)}")
+    from ._table import EXPORT_TARGETS
+    if not isinstance(target, str) or target not in EXPORT_TARGETS:
+        raise FrictionRulesError(f"target = {target!r} violates: one of "
+                                 f"{', '.join(EXPORT_TARGETS)}")
     out = _folder(out_dir)
     spec = law_spec(law, kt=kt, kn=kn, hardening=hardening, name=name)
-    writer = {"abaqus-fric": write_fric, "abaqus-vfric": write_vfric,
-              "abaqus-uinter": write_uinter, "c": write_c}[target]
-    written = writer(spec)
-    texts = dict(written.files)
-    snip_name, snip = snippet(target, spec, written)
-    texts[snip_name] = snip
-    rname = readme_name(target, spec)
-    texts[rname] = readme(target, spec, written, [*texts, rname])
-    paths = tuple(write_text(out / fname, text) for fname, text in texts.items())
+    kind = EXPORT_TARGETS[target]
+    written = kind.writer(spec, kind)
+    texts = (*written.files, snippet(kind, spec, written), readme(kind, spec, written))
+    paths = tuple(write_text(out / fname, text)
+                  for fname, text in zip(kind.files(spec.name), texts, strict=True))
     return ExportResult(target, paths, tuple(float(v) for v in written.props),
                         len(written.statev_entries),
                         tuple(e.name for e in written.props_entries),

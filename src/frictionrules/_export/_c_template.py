@@ -4,10 +4,9 @@ The algorithm is the one of the compiled return mapping (``contact/_return_kerne
 line for line: elastic trial (4.2), separation, limit check, backward Euler solved by Newton's
 method on the dimensionless residual with a backtracking line search, returns that end at the
 apex of a cone, the consistent tangent (the σ-block of the inverse Jacobian times E), and the
-substepping of :class:`~frictionrules.ContactModel` where Newton fails (halving, depth 10).
-``@NAME@`` is replaced by the function prefix, ``@TOL@``, ``@MAX_ITER@`` and
-``@MAX_HALVINGS@`` by the limits of :mod:`frictionrules.contact.integrate` (one home for every
-return mapping). The enum constants (``NQ``, ``SIZE``, the
+substepping of :class:`~frictionrules.ContactModel` where Newton fails (halving).
+``@NAME@`` is replaced by the function prefix, the other ``@...@`` by the numbers and codes of
+:mod:`frictionrules._returnspec` (one home for every return mapping). The enum constants (``NQ``, ``SIZE``, the
 offsets ``OFF_*``, ``CLIP``, ``KAPPA``) and ``local_f``, ``local_first``, ``local_full`` come
 before this text.
 """
@@ -16,15 +15,16 @@ CORE = r"""
 #define TOL @TOL@
 #define MAX_ITER @MAX_ITER@
 #define MAX_HALVINGS @MAX_HALVINGS@
-#define MAX_DEPTH 10
+#define MAX_DEPTH @MAX_DEPTH@
+#define SUFFICIENT_DECREASE @SUFFICIENT_DECREASE@
 #define M (4 + NQ)
 #define NQS (NQ > 0 ? NQ : 1)
 
-enum { ELASTIC = 0, PLASTIC = 1, OPEN = 2, APEX = 3, FAILED = -1 };
+enum { ELASTIC = @ELASTIC@, PLASTIC = @PLASTIC@, OPEN = @OPEN@, APEX = @APEX@, FAILED = @FAILED@ };
 
 /* The law's quantities at (T1, T2, N, q) into w, made finite at kinks: a derivative that is
    not finite is the minimal-norm subgradient 0; a limit condition that is not finite is its
-   largest value on a small circle around T. */
+   largest value on a small circle around T (the kink rule). */
 static void eval_law(double s0, double s1, double s2, const double *q, const double *p,
                      double *w, int level)
 {
@@ -42,10 +42,10 @@ static void eval_law(double s0, double s1, double s2, const double *q, const dou
         if (!isfinite(w[k]))
             w[k] = 0.0;
     if (!isfinite(w[0])) {
-        const double r = 1e-9 * (sqrt(s0 * s0 + s1 * s1) + fabs(n)) + 1e-300;
+        const double r = @KINK_RADIUS@ * (sqrt(s0 * s0 + s1 * s1) + fabs(n)) + 1e-300;
         double best = -HUGE_VAL;
-        for (j = 0; j < 8; j++) {
-            const double a = 0.25 * 3.14159265358979323846 * j;
+        for (j = 0; j < @KINK_POINTS@; j++) {
+            const double a = @KINK_ANGLE@ * j;
             local_f(s0 + r * cos(a), s1 + r * sin(a), n, q, p, w);
             if (w[0] > best)
                 best = w[0];
@@ -226,7 +226,7 @@ static int newton_return(const double *sig_tr, const double *qn, const double *p
                 xk[a] = x[a] + alpha * step[a];
             eval_law(xk[0], xk[1], xk[2], xk + 3, p, wk, 1);
             mk = residual(wk, xk, sig_tr, qn, dv, rows, Rk);
-            if (isfinite(mk) && mk <= (1.0 - 1e-4 * alpha) * merit) {
+            if (isfinite(mk) && mk <= (1.0 - SUFFICIENT_DECREASE * alpha) * merit) {
                 for (a = 0; a < M; a++) {
                     x[a] = xk[a];
                     R[a] = Rk[a];

@@ -55,10 +55,10 @@ def c_sources(spec) -> dict[str, str]:
          f"void {name}_initial_state(double *state);", "", f"#endif /* {up}_H */", ""]
     initial = "\n    ".join(f"state[{6 + k}] = {v!r};" for k, v in enumerate(spec.initial)) \
         or "(void)state;"
-    from ..contact.integrate import MAX_HALVINGS, MAX_ITER, TOL
+    from .._returnspec import placeholders
     body = (CORE + UPDATE).replace("@NAME_UPPER@", up).replace("@NAME@", name)
-    body = (body.replace("@TOL@", repr(float(TOL))).replace("@MAX_ITER@", str(int(MAX_ITER)))
-            .replace("@MAX_HALVINGS@", str(int(MAX_HALVINGS))))
+    for key, value in placeholders(lambda v: repr(float(v))).items():
+        body = body.replace(key, value)
     body = body.replace("@INITIAL@", initial)
     c = ["/*", *head, " */", "#include <math.h>", "#include <stddef.h>", f'#include "{name}.h"', "",
          law_functions_c(spec), body.lstrip("\n")]

@@ -6,15 +6,15 @@ the law's printed local functions.
 INVERSE = """\
 C ----------------------------------------------------------------------
 C The inverse relation at N = 1: the force T on the limit surface whose
-C tangential slip direction is (C, S) (a unit vector); with I2D = 1 the
-C force along (C, S) only (2-D). IOK = 0 where Newton fails.
-      SUBROUTINE @P@IR(C, S, I2D, Q, P, T, IOK)
+C tangential slip direction is (C, S) (a unit vector). IOK = 0 where
+C Newton fails.
+      SUBROUTINE @P@IR(C, S, Q, P, T, IOK)
       IMPLICIT NONE
 @PARAMS@
       DOUBLE PRECISION C, S, Q(NQS), P(*), T(2), W(NSIZE), WK(NSIZE)
       DOUBLE PRECISION R, PHI, DPHI, R1, R2, A11, A12, A21, A22, DET
       DOUBLE PRECISION D1, D2, TK1, TK2, AMER, AMK, ALPHA, SC
-      INTEGER I2D, IOK, IT, IH, K
+      INTEGER IOK, IT, IH, K
       LOGICAL ACCEPT
       IOK = 0
       DO 5 K = 1, NSIZE
@@ -22,11 +22,11 @@ C force along (C, S) only (2-D). IOK = 0 where Newton fails.
          WK(K) = 0.0D0
     5 CONTINUE
       R = 1.0D0
-      DO 10 IT = 1, 200
+      DO 10 IT = 1, @SCALAR_MAX_ITER@
          CALL @P@EV(R*C, R*S, 1.0D0, Q, P, W, 1)
          PHI = W(1)
          DPHI = W(OFFDF + 1)*C + W(OFFDF + 2)*S
-         IF (ABS(PHI) .LE. 1.0D-15*(1.0D0 + R)) GO TO 20
+         IF (ABS(PHI) .LE. @SCALAR_TOL@*(1.0D0 + R)) GO TO 20
          IF (.NOT. (DPHI .GT. 0.0D0)) RETURN
          IF (R - PHI/DPHI .LE. 0.0D0) THEN
             R = 0.5D0*R
@@ -37,18 +37,14 @@ C force along (C, S) only (2-D). IOK = 0 where Newton fails.
       RETURN
    20 T(1) = R*C
       T(2) = R*S
-      IF (I2D .EQ. 1) THEN
-         IOK = 1
-         RETURN
-      END IF
 C     f = 0 and grad_T g parallel to (C, S): Newton with line search.
       SC = 1.0D0/MAX(SQRT(W(OFFDF + 1)**2 + W(OFFDF + 2)**2), 1.0D-300)
       CALL @P@EV(T(1), T(2), 1.0D0, Q, P, W, 2)
       R1 = W(1)*SC
       R2 = W(OFFDG + 1)*S - W(OFFDG + 2)*C
       AMER = SQRT(R1*R1 + R2*R2)
-      DO 50 IT = 1, 60
-         IF (AMER .LE. 1.0D-14) GO TO 60
+      DO 50 IT = 1, @MAX_ITER@
+         IF (AMER .LE. @TOL@) GO TO 60
          A11 = W(OFFDF + 1)*SC
          A12 = W(OFFDF + 2)*SC
          A21 = W(OFFHGG + 1)*S - W(OFFHGG + 4)*C
@@ -59,14 +55,14 @@ C     f = 0 and grad_T g parallel to (C, S): Newton with line search.
          D2 = -(A11*R2 - A21*R1)/DET
          ALPHA = 1.0D0
          ACCEPT = .FALSE.
-         DO 40 IH = 1, 30
+         DO 40 IH = 1, @MAX_HALVINGS@
             TK1 = T(1) + ALPHA*D1
             TK2 = T(2) + ALPHA*D2
             CALL @P@EV(TK1, TK2, 1.0D0, Q, P, WK, 2)
             R1 = WK(1)*SC
             R2 = WK(OFFDG + 1)*S - WK(OFFDG + 2)*C
             AMK = SQRT(R1*R1 + R2*R2)
-            IF (AMK .LE. (1.0D0 - 1.0D-4*ALPHA)*AMER) THEN
+            IF (AMK .LE. (1.0D0 - @SUFFICIENT_DECREASE@*ALPHA)*AMER) THEN
                T(1) = TK1
                T(2) = TK2
                AMER = AMK
@@ -140,7 +136,7 @@ C
       DOUBLE PRECISION SL(3), REF(3), B1(3), B2(3), AM1(3), AM2(3)
       DOUBLE PRECISION G(3), S2(3), PHI, CS, SN, FN, F1, F2, FMAG
       DOUBLE PRECISION SCALE, DOT, ALEN, GT, DLAM, DS
-      INTEGER KB, I, J, I2D, IOK, NQV, NODE
+      INTEGER KB, I, J, IOK, NQV, NODE
       DATA Q0 /@Q0@/
       NQV = NQ
       IF (.FALSE.) WRITE (*, *) kStep, kInc, nTemp, jSlvUid(1),
@@ -177,9 +173,13 @@ C
             AN(I) = dircosN(I, KB)
             SL(I) = dircosSl(I, KB)
    40    CONTINUE
+C        Material frame: global 1 (or 2 where the normal is closer to
+C        it) projected on the tangent plane, in 2-D the in-plane tangent
+C        (N2, -N1, 0); B2 = N x B1 (out of the plane in 2-D); both
+C        turned by PHI about N. In 2-D there is no motion out of the
+C        plane: the slip lies along B1 and the out-of-plane force is a
+C        reaction (not returned with nFricDir = 1).
          IF (nDir .EQ. 3) THEN
-C           Material frame: global 1 (or 2 where the normal is closer to
-C           it) projected on the tangent plane, turned by PHI about N.
             REF(1) = 1.0D0
             REF(2) = 0.0D0
             REF(3) = 0.0D0
@@ -195,31 +195,25 @@ C           it) projected on the tangent plane, turned by PHI about N.
             DO 60 I = 1, 3
                B1(I) = B1(I)/ALEN
    60       CONTINUE
-            B2(1) = AN(2)*B1(3) - AN(3)*B1(2)
-            B2(2) = AN(3)*B1(1) - AN(1)*B1(3)
-            B2(3) = AN(1)*B1(2) - AN(2)*B1(1)
-            DO 70 I = 1, 3
-               AM1(I) = COS(PHI)*B1(I) + SIN(PHI)*B2(I)
-               AM2(I) = -SIN(PHI)*B1(I) + COS(PHI)*B2(I)
-   70       CONTINUE
-            I2D = 0
          ELSE
-C           2-D: the tangent (N2, -N1) turned by PHI = 0 or pi.
-            AM1(1) = COS(PHI)*AN(2)
-            AM1(2) = -COS(PHI)*AN(1)
-            AM1(3) = 0.0D0
-            AM2(1) = 0.0D0
-            AM2(2) = 0.0D0
-            AM2(3) = 0.0D0
-            I2D = 1
+            B1(1) = AN(2)
+            B1(2) = -AN(1)
+            B1(3) = 0.0D0
          END IF
+         B2(1) = AN(2)*B1(3) - AN(3)*B1(2)
+         B2(2) = AN(3)*B1(1) - AN(1)*B1(3)
+         B2(3) = AN(1)*B1(2) - AN(2)*B1(1)
+         DO 70 I = 1, 3
+            AM1(I) = COS(PHI)*B1(I) + SIN(PHI)*B2(I)
+            AM2(I) = -SIN(PHI)*B1(I) + COS(PHI)*B2(I)
+   70    CONTINUE
          CS = SL(1)*AM1(1) + SL(2)*AM1(2) + SL(3)*AM1(3)
          SN = SL(1)*AM2(1) + SL(2)*AM2(2) + SL(3)*AM2(3)
          ALEN = SQRT(CS*CS + SN*SN)
          IF (.NOT. (ALEN .GT. 0.0D0)) GO TO 200
          CS = CS/ALEN
          SN = SN/ALEN
-         CALL @P@IR(CS, SN, I2D, Q, P, T, IOK)
+         CALL @P@IR(CS, SN, Q, P, T, IOK)
          IF (IOK .EQ. 0) THEN
 C           No force slides that way (or no convergence): stick.
             fTangential(1, KB) = -fStickForce(KB)

@@ -5,15 +5,17 @@ Line for line the algorithm of the compiled return mapping (``contact/_return_ke
 and of the C target (``_c_template.py``): limit check, Newton on the dimensionless residual
 with a backtracking line search, apex of a cone, consistent tangent. ``@P@`` is replaced by the
 prefix of the law's names and ``@PARAMS@`` by the PARAMETER statements of the layout (``NQ``,
-``NQS``, ``M``, ``NSIZE``, ``ICLIP``, ``KAPPA``, the offsets ``OFF*``), ``@TOL@``,
-``@MAX_ITER@`` and ``@MAX_HALVINGS@`` by the limits of :mod:`frictionrules.contact.integrate`
-(one home for the NumPy, Numba, C and Fortran returns). Every name is declared
+``NQS``, ``M``, ``NSIZE``, ``ICLIP``, ``KAPPA``, the offsets ``OFF*``, the status codes
+``KELAS``, ``KPLAS``, ``KOPEN``, ``KAPEX``, ``KFAIL`` and the substep depth ``MAXDEP``), the
+other ``@...@`` by the numbers of :mod:`frictionrules._returnspec` (one home for the NumPy,
+Numba, C and Fortran returns). Every name is declared
 (``IMPLICIT NONE``); no line passes column 72.
 """
 
 CORE = """\
 C ----------------------------------------------------------------------
-C The law's quantities at (T1, T2, N, Q) into W, made finite at kinks.
+C The law's quantities at (T1, T2, N, Q) into W, made finite at kinks
+C (the kink rule).
       SUBROUTINE @P@EV(S0, S1, S2, Q, P, W, LEVEL)
       IMPLICIT NONE
 @PARAMS@
@@ -35,10 +37,10 @@ C The law's quantities at (T1, T2, N, Q) into W, made finite at kinks.
          IF (.NOT. (ABS(W(K)) .LE. HUGE(1.0D0))) W(K) = 0.0D0
    10 CONTINUE
       IF (.NOT. (ABS(W(1)) .LE. HUGE(1.0D0))) THEN
-         R = 1.0D-9*(SQRT(S0*S0 + S1*S1) + ABS(SN)) + 1.0D-300
+         R = @KINK_RADIUS@*(SQRT(S0*S0 + S1*S1) + ABS(SN)) + 1.0D-300
          BEST = -HUGE(1.0D0)
-         DO 20 J = 0, 7
-            A = 0.25D0*3.14159265358979323846D0*J
+         DO 20 J = 0, @KINK_LAST@
+            A = @KINK_ANGLE@*J
             CALL @P@LF(S0 + R*COS(A), S1 + R*SIN(A), SN, Q, P, W)
             IF (W(1) .GT. BEST) BEST = W(1)
    20    CONTINUE
@@ -250,7 +252,7 @@ C converged. Leaves the last iterate in X, the law's quantities in W.
    60       CONTINUE
             CALL @P@EV(XK(1), XK(2), XK(3), XK(4), P, WK, 1)
             AMK = @P@RS(WK, XK, STR, QN, DV, ROWS, RK)
-            IF (AMK .LE. (1.0D0 - 1.0D-4*ALPHA)*AMERIT) THEN
+            IF (AMK .LE. (1.0D0 - @SUFFICIENT_DECREASE@*ALPHA)*AMERIT) THEN
                DO 70 A = 1, M
                   X(A) = XK(A)
                   R(A) = RK(A)
@@ -288,8 +290,8 @@ C Trial forces whose return ends at the apex SIGMA = 0 of a cone.
       END
 C ----------------------------------------------------------------------
 C The return of closed trial forces STR (STR(3) > 0) at the stiffnesses
-C DV: KIND = 0 elastic (SIG = STR), 1 plastic (SIG, Q1, DLAM and, when
-C WANT, DSIG = dSIGMA/dSIGMA_trial), 3 apex of a cone, -1 failed.
+C DV: KIND = KELAS (SIG = STR), KPLAS (SIG, Q1, DLAM and, when WANT,
+C DSIG = dSIGMA/dSIGMA_trial), KAPEX (apex of a cone) or KFAIL.
       SUBROUTINE @P@RM(STR, QN, P, DV, SIG, Q1, DLAM, DSIG, WANT, KIND)
       IMPLICIT NONE
 @PARAMS@
@@ -308,22 +310,22 @@ C WANT, DSIG = dSIGMA/dSIGMA_trial), 3 apex of a cone, -1 failed.
          SIG(A) = STR(A)
    20 CONTINUE
       DLAM = 0.0D0
-      KIND = 0
+      KIND = KELAS
       CALL @P@EV(STR(1), STR(2), STR(3), QN, P, W, 0)
       IF (W(1) .LE. 0.0D0) RETURN
       IF (.NOT. @P@NR(STR, QN, P, DV, X, W)) THEN
-         KIND = -1
-         IF (STR(3) .LE. @TOL@*ANTR) KIND = 3
-         IF (KIND .EQ. -1) THEN
-            IF (@P@AX(STR, QN, P, DV, W)) KIND = 3
+         KIND = KFAIL
+         IF (STR(3) .LE. @TOL@*ANTR) KIND = KAPEX
+         IF (KIND .EQ. KFAIL) THEN
+            IF (@P@AX(STR, QN, P, DV, W)) KIND = KAPEX
          END IF
          RETURN
       END IF
       DLAM = X(M)
-      KIND = 3
+      KIND = KAPEX
       IF (X(3) .LT. 0.0D0) RETURN
       IF (SQRT(X(1)**2 + X(2)**2 + X(3)**2) .LE. @TOL@*ANTR) RETURN
-      KIND = 1
+      KIND = KPLAS
       DO 30 A = 1, 3
          SIG(A) = X(A)
    30 CONTINUE
@@ -334,7 +336,7 @@ C WANT, DSIG = dSIGMA/dSIGMA_trial), 3 apex of a cone, -1 failed.
       CALL @P@EV(X(1), X(2), X(3), X(4), P, W, 2)
       CALL @P@JA(W, DLAM, DV, AJ)
       IF (.NOT. @P@LU(AJ, IPIV)) THEN
-         KIND = -1
+         KIND = KFAIL
          RETURN
       END IF
       DO 70 C = 1, 3

@@ -2,7 +2,7 @@
 contact pressure Abaqus passes) and UINTER (the whole interface law with the normal penalty).
 
 Both call the return mapping of ``_f_return.py`` (``@P@RM``) and substep where it fails,
-halving as :class:`~frictionrules.ContactModel` does (depth 10). ``@PARAMS@``, ``@P@``,
+halving as :class:`~frictionrules.ContactModel` does. ``@PARAMS@``, ``@P@``,
 ``@NPAR@`` and ``@Q0@`` (the virgin internal variables) are filled by ``_fortran.fill``.
 """
 
@@ -53,17 +53,14 @@ C     Open at the previous increment: nothing to do.
    20 CONTINUE
       E(1) = STATEV(NQ + 1)
       E(2) = STATEV(NQ + 2)
+C     2-D (NFDIR = 1): no relative motion out of the plane; the
+C     out-of-plane elastic slip E(2) is state, its force a reaction.
       DG(1) = DGAM(1)
       DG(2) = 0.0D0
+      IF (NFDIR .EQ. 2) DG(2) = DGAM(2)
       DV(1) = AKT
-      DV(2) = 0.0D0
+      DV(2) = AKT
       DV(3) = 0.0D0
-      IF (NFDIR .EQ. 2) THEN
-         DG(2) = DGAM(2)
-         DV(2) = AKT
-      ELSE
-         E(2) = 0.0D0
-      END IF
       DO 30 I = 1, NFDIR
          TAU(I) = 0.0D0
          DDTDDP(I) = 0.0D0
@@ -76,13 +73,13 @@ C     Open at the previous increment: nothing to do.
    30 CONTINUE
       SED = 0.0D0
       SFD = 0.0D0
-C     Substeps where Newton fails (halving, depth 10), the pressure
+C     Substeps where Newton fails (halving), the pressure
 C     linear over the increment from PRESS - DPRESS to PRESS.
       PSTART = PRESS - DPRESS
-      IFULL = 1024
+      IFULL = 2**MAXDEP
       IPOS = 0
       IDEPTH = 0
-      KIND = 2
+      KIND = KOPEN
    40 IF (IPOS .GE. IFULL) GO TO 90
       FRAC = 1.0D0/2**IDEPTH
       PK = PSTART + DPRESS*DBLE(IPOS + IFULL/2**IDEPTH)/DBLE(IFULL)
@@ -93,7 +90,7 @@ C     linear over the increment from PRESS - DPRESS to PRESS.
    50 CONTINUE
       DISS = 0.0D0
       IF (PK .LE. 0.0D0) THEN
-         KIND = 2
+         KIND = KOPEN
          EN(1) = 0.0D0
          EN(2) = 0.0D0
          SIG(1) = 0.0D0
@@ -103,18 +100,18 @@ C     linear over the increment from PRESS - DPRESS to PRESS.
          STR(2) = AKT*ET(2)
          STR(3) = PK
          CALL @P@RM(STR, Q, P, DV, SIG, QN, DLAM, DSIG, .TRUE., KIND)
-         IF (KIND .EQ. -1) THEN
-            IF (IDEPTH .GE. 10) THEN
+         IF (KIND .EQ. KFAIL) THEN
+            IF (IDEPTH .GE. MAXDEP) THEN
                PNEWDT = 0.25D0
                RETURN
             END IF
             IDEPTH = IDEPTH + 1
             GO TO 40
          END IF
-         IF (KIND .EQ. 0) THEN
+         IF (KIND .EQ. KELAS) THEN
             EN(1) = ET(1)
             EN(2) = ET(2)
-         ELSE IF (KIND .EQ. 1) THEN
+         ELSE IF (KIND .EQ. KPLAS) THEN
             EN(1) = SIG(1)/AKT
             EN(2) = SIG(2)/AKT
             DISS = SIG(1)*(ET(1) - EN(1)) + SIG(2)*(ET(2) - EN(2))
@@ -147,9 +144,9 @@ C     linear over the increment from PRESS - DPRESS to PRESS.
 C     The end of the increment: forces, tangent of the last substep.
    90 DO 110 I = 1, NFDIR
          TAU(I) = SIG(I)
-         IF (KIND .EQ. 0) THEN
+         IF (KIND .EQ. KELAS) THEN
             DDTDDG(I, I) = AKT
-         ELSE IF (KIND .EQ. 1) THEN
+         ELSE IF (KIND .EQ. KPLAS) THEN
             DDTDDP(I) = DSIG(I, 3)
             DO 100 J = 1, NFDIR
                DDTDDG(I, J) = DSIG(I, J)*AKT
@@ -219,17 +216,14 @@ C
          Q(J) = STATEV(J) + Q0(J)
    30 CONTINUE
 C     (dt1, dt2, dn) with dn positive on opening; RDISP(1) is the
-C     overclosure.
+C     overclosure; 2-D (NDIR = 2): no relative motion out of the plane.
       DU(1) = DRDISP(2)
       DU(2) = 0.0D0
+      IF (NDIR .EQ. 3) DU(2) = DRDISP(3)
       DU(3) = -DRDISP(1)
       DV(1) = AKT
-      DV(2) = 0.0D0
+      DV(2) = AKT
       DV(3) = AKN
-      IF (NDIR .EQ. 3) THEN
-         DU(2) = DRDISP(3)
-         DV(2) = AKT
-      END IF
       EK(1) = AKT
       EK(2) = AKT
       EK(3) = -AKN
@@ -237,11 +231,11 @@ C     overclosure.
       SPD = 0.0D0
       SVD = 0.0D0
       SCD = 0.0D0
-C     Substeps where Newton fails (halving, depth 10).
-      IFULL = 1024
+C     Substeps where Newton fails (halving).
+      IFULL = 2**MAXDEP
       IPOS = 0
       IDEPTH = 0
-      KIND = 2
+      KIND = KOPEN
    40 IF (IPOS .GE. IFULL) GO TO 90
       FRAC = 1.0D0/2**IDEPTH
       DO 45 I = 1, 3
@@ -255,11 +249,11 @@ C     Substeps where Newton fails (halving, depth 10).
       STR(1) = AKT*ET(1)
       STR(2) = AKT*ET(2)
       STR(3) = -AKN*ET(3)
-      KIND = 2
+      KIND = KOPEN
       IF (STR(3) .GT. 0.0D0) THEN
          CALL @P@RM(STR, Q, P, DV, SIG, QN, DLAM, DSIG, .TRUE., KIND)
-         IF (KIND .EQ. -1) THEN
-            IF (IDEPTH .GE. 10) THEN
+         IF (KIND .EQ. KFAIL) THEN
+            IF (IDEPTH .GE. MAXDEP) THEN
                PNEWDT = 0.25D0
                RETURN
             END IF
@@ -267,11 +261,11 @@ C     Substeps where Newton fails (halving, depth 10).
             GO TO 40
          END IF
       END IF
-      IF (KIND .EQ. 0) THEN
+      IF (KIND .EQ. KELAS) THEN
          DO 55 I = 1, 3
             EN(I) = ET(I)
    55    CONTINUE
-      ELSE IF (KIND .EQ. 1) THEN
+      ELSE IF (KIND .EQ. KPLAS) THEN
          EN(1) = SIG(1)/AKT
          EN(2) = SIG(2)/AKT
          EN(3) = -SIG(3)/AKN
@@ -288,9 +282,9 @@ C        Open, or a return that ends at the apex of a cone.
          DO 62 J = 1, NQV
             QN(J) = Q(J)
    62    CONTINUE
-         IF (KIND .EQ. 3 .AND. KAP .GE. 0) QN(KAP + 1) = Q(KAP + 1)
+         IF (KIND .EQ. KAPEX .AND. KAP .GE. 0) QN(KAP + 1) = Q(KAP + 1)
      &        + SQRT(ET(1)**2 + ET(2)**2)
-         IF (KIND .EQ. 3) KIND = 2
+         IF (KIND .EQ. KAPEX) KIND = KOPEN
       END IF
       DO 65 I = 1, 3
          PL(I) = PL(I) + ET(I) - EN(I)
@@ -314,13 +308,13 @@ C     d(stress)/d(overclosure, slip 1, slip 2) of the last substep.
    90 DO 110 I = 1, 3
          DO 100 J = 1, 3
             C(I, J) = 0.0D0
-            IF (KIND .EQ. 1) C(I, J) = DSIG(I, J)*EK(J)
+            IF (KIND .EQ. KPLAS) C(I, J) = DSIG(I, J)*EK(J)
   100    CONTINUE
-         IF (KIND .EQ. 0) C(I, I) = EK(I)
+         IF (KIND .EQ. KELAS) C(I, I) = EK(I)
   110 CONTINUE
       DO 130 I = 1, NDIR
          STRESS(I) = SIG(IS(I))
-         IF (KIND .EQ. 2) STRESS(I) = 0.0D0
+         IF (KIND .EQ. KOPEN) STRESS(I) = 0.0D0
          DO 120 J = 1, NDIR
             DDSDDR(I, J) = C(IS(I), IR(J))
             IF (J .EQ. 1) DDSDDR(I, J) = -DDSDDR(I, J)
@@ -341,9 +335,9 @@ C     d(stress)/d(overclosure, slip 1, slip 2) of the last substep.
       DDFDDT(2, 1) = 0.0D0
       DDFDDT(2, 2) = 0.0D0
       SED = 0.5D0*(AKT*(E(1)**2 + E(2)**2) + AKN*E(3)**2)
-      IF (KIND .EQ. 2) SED = 0.0D0
+      IF (KIND .EQ. KOPEN) SED = 0.0D0
       LSTATE = 1
-      IF (KIND .EQ. 2) LSTATE = 0
+      IF (KIND .EQ. KOPEN) LSTATE = 0
       LSDI = 0
       IF (LOPENCLOSE .NE. -1 .AND. LOPENCLOSE .NE. LSTATE) LSDI = 1
       DO 140 J = 1, NQV

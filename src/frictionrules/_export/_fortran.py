@@ -31,12 +31,15 @@ def refit(text: str) -> str:
 
 def parameter_block(spec) -> str:
     """The PARAMETER statements of the layout, repeated in every subroutine."""
+    from .._returnspec import APEX, ELASTIC, FAILED, MAX_SUBSTEP_DEPTH, OPEN, PLASTIC
     from ..codegen import fixed_form, local_layout, local_program
     layout = local_layout(spec.nq)
     values = {"NQ": spec.nq, "NQS": max(spec.nq, 1), "M": 4 + spec.nq,
               "NSIZE": local_program(spec.form, "f").size, "ICLIP": int(spec.clip),
               "KAPPA": spec.kappa}
     values |= {f"OFF{k.upper()}": off for k, (off, _) in layout.items() if k != "f"}
+    values |= {"KELAS": ELASTIC, "KPLAS": PLASTIC, "KOPEN": OPEN, "KAPEX": APEX, "KFAIL": FAILED,
+               "MAXDEP": MAX_SUBSTEP_DEPTH}
     lines = []
     names = list(values)
     for k in range(0, len(names), 5):
@@ -54,12 +57,13 @@ def real(value: float) -> str:
 
 def fill(template: str, spec) -> str:
     """A template with the law's prefix, layout, number of parameters and virgin state in."""
-    from ..contact.integrate import MAX_HALVINGS, MAX_ITER, TOL
+    from .._returnspec import placeholders
     q0 = ", ".join(real(v) for v in spec.initial) or "0.0D0"
-    return (template.replace("@PARAMS@", parameter_block(spec)).replace("@P@", prefix(spec))
-            .replace("@NPAR@", str(len(spec.param_names))).replace("@Q0@", q0)
-            .replace("@TOL@", real(TOL)).replace("@MAX_ITER@", str(int(MAX_ITER)))
-            .replace("@MAX_HALVINGS@", str(int(MAX_HALVINGS))))
+    text = (template.replace("@PARAMS@", parameter_block(spec)).replace("@P@", prefix(spec))
+            .replace("@NPAR@", str(len(spec.param_names))).replace("@Q0@", q0))
+    for key, value in placeholders(real).items():
+        text = text.replace(key, value)
+    return text
 
 
 def law_subroutines(spec) -> str:

@@ -1,13 +1,11 @@
-"""The targets of :func:`frictionrules.export`: what each writes, PROPS and STATEV layouts."""
+"""The writers of the targets of :func:`frictionrules.export` (the table is :mod:`._table`):
+the code each prints and its PROPS and STATEV layouts."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
 from ..errors import FrictionRulesError
-
-TARGETS = ("abaqus-fric", "abaqus-vfric", "abaqus-uinter", "c")
-
 
 @dataclass(frozen=True)
 class Entry:
@@ -20,31 +18,20 @@ class Entry:
 
 @dataclass(frozen=True)
 class Written:
-    """A target's output before it is written: files (name -> text), PROPS, STATEV."""
+    """A target's output before it is written: the code files (texts, in the order of the
+    target's ``code`` names), PROPS, STATEV."""
 
-    files: dict
+    files: tuple
     props: tuple
     props_entries: tuple
     statev_entries: tuple
     unsymmetric: bool
 
 
-_UNITS = {"angle": ("frame angle of the law's axes from local direction 1", "rad"),
-          "alpha": ("inclination angle", "rad"),
-          "mu": ("friction coefficient", "1"), "mu_x": ("friction coefficient along x", "1"),
-          "mu_y": ("friction coefficient along y", "1"), "m": ("friction coefficient", "1"),
-          "h": ("relative hardening", "1"), "kappa_h": ("hardening slip scale", "length"),
-          "p": ("pressure scale of the cap", "stress"),
-          "normal_ratio": ("weight of the normal part of g", "1"),
-          "b": ("area growth rate", "1")}
-
-
 def _param_entries(spec) -> list[Entry]:
-    out = []
-    for n in spec.param_names:
-        meaning, unit = _UNITS.get(n, ("law parameter", "as in the law"))
-        out.append(Entry(n, meaning, unit))
-    return out
+    info = spec.law.parameter_info()
+    return [Entry(n, info[n].meaning, info[n].unit) if n in info else
+            Entry(n, "law parameter", "as in the law") for n in spec.param_names]
 
 
 def _state_entries(spec) -> list[Entry]:
@@ -54,24 +41,7 @@ def _state_entries(spec) -> list[Entry]:
             for n in spec.state_names]
 
 
-def unsymmetric_tangent(spec) -> bool:
-    """True unless the tangential sliding rule is associated and the internal variables do not
-    couple the tangential directions (then the consistent tangent is symmetric)."""
-    import sympy
-
-    from ..laws.symbols import T1, T2
-    f, g = spec.form.f, spec.form.g
-    if any(sympy.simplify(sympy.diff(f - g, s)) != 0 for s in (T1, T2)):
-        return True
-    for q, h in zip(spec.form.state, spec.form.rates):
-        dgq = [sympy.diff(g, s, q) for s in (T1, T2)]
-        dhs = [sympy.diff(h, s) for s in (T1, T2)]
-        if any(sympy.simplify(e) != 0 for e in dgq + dhs):
-            return True
-    return False
-
-
-def write_c(spec) -> Written:
+def write_c(spec, target) -> Written:
     from ._ctarget import c_sources
     if spec.kn is None:
         raise FrictionRulesError("kn = None violates: target 'c' needs the normal penalty "
@@ -86,13 +56,15 @@ def write_c(spec) -> Written:
              Entry("dp_t2", "plastic tangential displacement (slip) 2", "length"),
              Entry("dp_n", "plastic normal displacement (positive opening)", "length"),
              *_state_entries(spec)]
-    return Written(c_sources(spec), props, tuple(entries), tuple(state), unsymmetric_tangent(spec))
+    files = c_sources(spec)
+    return Written(tuple(files[n.format(name=spec.name)] for n in target.code), props,
+                   tuple(entries), tuple(state), not spec.law.traits.symmetric_tangent)
 
 
-def write_fric(spec) -> Written:
+def write_fric(spec, target) -> Written:
     from ._f_standard import FRIC
     from ._fortran import fill, header, law_subroutines, refit
-    if not spec.dg_dn_vanishes():
+    if spec.law.traits.normal_slip:
         raise FrictionRulesError(
             f"law = {type(spec.law).__name__}: its sliding rule moves the surfaces normally "
             "(dg/dN != 0, dilatancy or compaction); constraint for target 'abaqus-fric': FRIC "
@@ -109,14 +81,14 @@ def write_fric(spec) -> Written:
              f"PROPS ({len(props)}): " + ", ".join(e.name for e in entries) + " (kt last)",
              f"STATEV ({len(state)}): " + ", ".join(e.name for e in state),
              "(start-of-increment values in, end values out)"]
-    text = header(spec, "abaqus-fric", lines)
+    text = header(spec, target.name, lines)
     body = fill(FRIC, spec)
     text = refit(text + body + law_subroutines(spec))
-    return Written({f"{spec.name}_fric.f": text}, props, tuple(entries), tuple(state),
-                   unsymmetric_tangent(spec))
+    return Written((text,), props, tuple(entries), tuple(state),
+                   not spec.law.traits.symmetric_tangent)
 
 
-def write_uinter(spec) -> Written:
+def write_uinter(spec, target) -> Written:
     from ._f_standard import UINTER
     from ._fortran import fill, header, law_subroutines, refit
     if spec.kn is None:
@@ -142,17 +114,18 @@ def write_uinter(spec) -> Written:
              f"PROPS ({len(props)}): " + ", ".join(e.name for e in entries) + " (kt last)",
              f"STATEV ({len(state)}): " + ", ".join(e.name for e in state),
              "(start-of-increment values in, end values out)"]
-    text = header(spec, "abaqus-uinter", lines)
+    text = header(spec, target.name, lines)
     body = fill(UINTER, spec)
     text = refit(text + body + law_subroutines(spec))
-    return Written({f"{spec.name}_uinter.f": text}, props, tuple(entries), tuple(state),
-                   True if not spec.dg_dn_vanishes() else unsymmetric_tangent(spec))
+    traits = spec.law.traits
+    return Written((text,), props, tuple(entries), tuple(state),
+                   traits.normal_slip or not traits.symmetric_tangent)
 
 
-def write_vfric(spec) -> Written:
+def write_vfric(spec, target) -> Written:
     from ._f_explicit import INVERSE, VFRIC
     from ._fortran import fill, header, law_subroutines, refit
-    if not spec.conical():
+    if not spec.law.traits.conical:
         raise FrictionRulesError(
             f"law = {type(spec.law).__name__} violates: target 'abaqus-vfric' needs a law whose "
             "limit surface is a cone in (T, N) (f homogeneous in the forces): VFRIC scales the "
@@ -170,6 +143,6 @@ def write_vfric(spec) -> Written:
              f"PROPS ({len(props)}): " + ", ".join(e.name for e in entries),
              f"STATEV ({len(state)}): " + (", ".join(e.name for e in state) or "none")
              + " (per slave node)"]
-    text = header(spec, "abaqus-vfric", lines)
+    text = header(spec, target.name, lines)
     text = refit(text + fill(VFRIC, spec) + law_subroutines(spec) + fill(INVERSE, spec))
-    return Written({f"{spec.name}_vfric.f": text}, props, tuple(entries), tuple(state), False)
+    return Written((text,), props, tuple(entries), tuple(state), False)

@@ -41,6 +41,11 @@ class FacetLaw(FrictionLaw):
         local Coulomb friction. The global law is then associated too."""
         return self._facets._solver.associated
 
+    def mechanism_name(self, label: str) -> str:
+        """The name of a mechanism of :meth:`limit_curve` by its label (``"0"``, ``"0+1"``:
+        the sliding facets)."""
+        return f"facet{'s' if '+' in label else ''} {label}"
+
     # ---- mechanisms ----------------------------------------------------------------------
     def limit_load(self, direction, Q=1.0):
         """Limit load in the horizontal ``direction`` ``(dx, dy)`` at vertical load ``Q``.

@@ -10,11 +10,11 @@ What the search needs of a law, and where it comes from:
 * the limit condition and the slip direction of the sliding rule (every law);
 * that both scale with the normal force: f positively homogeneous in ``(T, N)`` and the slip
   direction of degree zero, so that the limit curve at ``N`` is ``N`` times the one at
-  ``N = 1``. A law with the capability ``"cone"`` is such a law and gives closed forms (a
+  ``N = 1`` (the trait ``conical`` of :class:`frictionrules.LawTraits`), and a convex limit
+  curve. A law with the capability ``"cone"`` is such a law and gives closed forms (a
   quadratic for a facet's limit load, the inverse relation (1.13), the dilatancy
-  :math:`v_n = d\,\bar\mu\,|A^T v_t|` of :class:`frictionrules.laws.Cone`); a law with the
-  capability ``"symbolic"`` is checked on its symbolic form and handled numerically (roots
-  by bracketing to machine precision);
+  :math:`v_n = d\,\bar\mu\,|A^T v_t|` of :class:`frictionrules.laws.Cone`); any other law is
+  checked by its traits and handled numerically (roots by bracketing to machine precision);
 * no internal variables (the search is a limit analysis of the block at rest).
 
 The *dilatancy* :math:`\psi(\theta) = v_n/|v_t|` of the slip that the law gives for the
@@ -64,55 +64,27 @@ def local_law(law, where: str):
         return ConeLocal(law, c.mu_x, c.mu_y, c.angle, c.dilatancy)
     if "symbolic" not in caps:
         require(law, "cone", where)         # names the capability the search needs
-    degree_f, degree_g, dilatant = _symbolic_traits(law)
-    if degree_f is None or degree_g is None:
-        what = ("f is not positively homogeneous in (T, N)" if degree_f is None else
+    traits = law.traits
+    if not traits.conical:
+        what = ("f is not positively homogeneous in (T, N)" if traits.degree is None or
+                traits.degree <= 0 else
                 "the slip direction (the gradient of g) changes when (T, N) is scaled")
         raise FrictionRulesError(
             f"{where}: law = {_short(law)}: {what}; constraint: a cone-like local law (its limit "
             "curve at N is N times the one at N = 1), which the mechanism search needs for the "
             "equilibrium of two facets (a 3x3 linear system) and the scaling with Q")
-    local = CurveLocal(law, dilatant, twin_of=False)
-    if not local.convex:
+    if not traits.convex:
         raise FrictionRulesError(
             f"{where}: law = {_short(law)}: its limit curve at N = 1 is not convex (e.g. Huber "
             "with a ratio of mu_1 to mu_2 beyond 1.5); constraint: a convex limit condition, on "
             "which the static maximum and the check that the facets carry Q rely (limit "
             "analysis)")
-    return local
+    return CurveLocal(law, traits.normal_slip, twin_of=False)
 
 
 def _short(law) -> str:
     text = repr(law)
     return text if len(text) <= 120 else text[:117] + "..."
-
-
-@functools.lru_cache(maxsize=128)
-def _symbolic_traits(law):
-    """``(degree of f, degree of the gradient of g, dilatant)`` from the symbolic form; a degree
-    is ``None`` when the expression is not positively homogeneous."""
-    import sympy
-
-    from ..laws.symbols import N, T1, T2
-    f, g, _ = law.symbolic_form().substituted()
-    lam = sympy.Symbol("lam", positive=True)
-    scale = {T1: lam * T1, T2: lam * T2, N: lam * N}
-
-    def degree(expr):
-        if expr == 0:
-            return 0.0
-        ratio = sympy.simplify(expr.xreplace(scale) / expr)
-        if not ratio.free_symbols <= {lam}:
-            return None
-        k = sympy.simplify(lam * sympy.diff(ratio, lam) / ratio)
-        return float(k) if k.is_number else None
-
-    df = degree(f)
-    grads = [sympy.diff(g, s) for s in (T1, T2, N)]
-    dg = {degree(e) for e in grads if e != 0}
-    dilatant = sympy.simplify(grads[2]) != 0
-    return (df if df is not None and df > 0 else None,
-            dg.pop() if len(dg) == 1 and None not in dg else None, bool(dilatant))
 
 
 def wrap(a: np.ndarray) -> np.ndarray:
@@ -326,17 +298,6 @@ class CurveLocal(_Local):
         fin &= vt > 0
         psi = s[:, 2] / np.where(fin, vt, 1.0)
         return beta, T, fin, _slip_angle(s), psi
-
-    @property
-    def convex(self) -> bool:
-        """The sampled limit curve at ``N = 1`` turns one way only (unbounded parts aside)."""
-        _, T, fin, *_ = self._table
-        e = np.roll(T, -1, axis=0) - T
-        e2 = np.roll(e, -1, axis=0)
-        turn = e[:, 0] * e2[:, 1] - e[:, 1] * e2[:, 0]
-        scale = np.linalg.norm(e, axis=-1) * np.linalg.norm(e2, axis=-1)
-        ok = fin & np.roll(fin, -1) & np.roll(fin, -2)
-        return bool(np.all(turn[ok] >= -1e-9 * scale[ok]))
 
     @property
     def psi_range(self):

@@ -6,7 +6,8 @@ which the public records are built.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, fields, replace
+from typing import ClassVar
 
 import numpy as np
 
@@ -193,6 +194,18 @@ class LimitCurve:
     tangential_rule_angle: np.ndarray
     corners: tuple[Corner, ...]
     quasi_static: np.ndarray
+
+    #: Default tolerance of :meth:`merged` (radians, 2°): the facets of a measured surface are
+    #: its grouped gradients (the hull vertices in 128 directions, 2.8° apart), so a smoothly
+    #: curved surface gives corners a degree or so from 180° that are not features of it.
+    NOISE_CORNER: ClassVar[float] = float(np.deg2rad(2.0))
+
+    def merged(self, tolerance: float | None = None) -> LimitCurve:
+        """This curve with every corner whose interior angle lies within ``tolerance``
+        (radians, default :attr:`NOISE_CORNER`) of 180° merged away: the pieces on either
+        side count as one smooth piece, and such a corner is neither listed nor concave."""
+        tol = self.NOISE_CORNER if tolerance is None else float(tolerance)
+        return replace(self, corners=tuple(c for c in self.corners if abs(c.turning) > tol))
 
     @property
     def labels(self) -> list[str]:

@@ -17,7 +17,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import FrictionRulesError, check_scalar
-from ..laws import Coulomb, FrictionLaw
 from . import _topography as topo
 from .facets import FacetSet
 from .surfaces import _normals, group_gradients
@@ -136,21 +135,27 @@ class SurfaceFriction:
 
 
 def _local(law_or_mu) -> tuple[float, str]:
-    """Local friction coefficient and rule of the facets from a number or a law.
+    r"""Local friction coefficient and rule of the facets from a number or a law.
 
-    The facets take the local law as an argument; today :class:`FacetSet` takes Coulomb's
-    (``mu`` and the rule (1.5), or (1.6) for ``dilatant=True``).
+    The count of carrying facets and the steepest-facet bound use one friction angle
+    :math:`\varrho = \arctan\mu` in every direction: a number ``mu`` (the rule (1.5)), or a
+    law whose cone (capability ``"cone"``) is circular with the rule (1.5) or (1.6) —
+    :class:`frictionrules.Coulomb`, a user law written for it.
     """
-    if isinstance(law_or_mu, Coulomb):
-        return law_or_mu.mu, "associated" if law_or_mu.dilatant else "non-associated"
-    if isinstance(law_or_mu, FrictionLaw):
-        raise FrictionRulesError(f"law_or_mu = {type(law_or_mu).__name__}(...) violates: the "
-                                 "facets take a Coulomb local law (a number mu or "
-                                 "Coulomb(mu, dilatant))")
+    if getattr(law_or_mu, "capabilities", None) is not None:
+        cone = law_or_mu.cone() if "cone" in law_or_mu.capabilities else None
+        if (cone is None or abs(cone.mu_x - cone.mu_y) > 1e-12 * cone.mu_x
+                or cone.dilatancy not in (0.0, 1.0)):
+            raise FrictionRulesError(
+                f"law_or_mu = {type(law_or_mu).__name__}(...) violates: the facets of a "
+                "measured surface take an isotropic Coulomb cone (capability 'cone' with "
+                "mu_x = mu_y and the rule (1.5) or (1.6)) or a number mu")
+        return (check_scalar("mu", cone.mu_x, lo=0.0, lo_open=True),
+                "associated" if cone.dilatancy == 1.0 else "non-associated")
     if isinstance(law_or_mu, bool) or not isinstance(law_or_mu, (int, float, np.floating,
                                                                  np.integer)):
         raise FrictionRulesError(f"law_or_mu = {law_or_mu!r} violates: a number mu > 0 or a "
-                                 "Coulomb law")
+                                 "law with an isotropic Coulomb cone")
     return check_scalar("mu", law_or_mu, lo=0.0, lo_open=True), "non-associated"
 
 
@@ -215,9 +220,10 @@ def from_topography(obj, law_or_mu, *, scale=None, detrend: str = "plane", n: in
     obj : topography
         Any object with ``heights()`` and ``pixel_size`` (SurfaceTopography's interface; see
         :func:`frictionrules.read_surface`), 2-D map or 1-D profile (ridges along y).
-    law_or_mu : float or Coulomb
-        Local law on the facets: ``mu`` (Coulomb with the rule (1.5)) or a
-        :class:`frictionrules.Coulomb` (``dilatant=True``: the rule (1.6)).
+    law_or_mu : float or FrictionLaw
+        Local law on the facets: ``mu`` (Coulomb with the rule (1.5)) or a law with an
+        isotropic Coulomb cone (:class:`frictionrules.Coulomb`, ``dilatant=True``: the rule
+        (1.6); a user law written for it).
     scale : float, optional
         Cut-off wavelength in the topography's length unit (``>= 0``; 0: the raw map).
         Default: five times the (coarser) pixel size.

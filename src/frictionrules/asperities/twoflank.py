@@ -97,6 +97,9 @@ class TwoFlankAsperity(FacetLaw):
         if not isinstance(value, float):
             self._facets                       # a local law is checked where it enters
 
+    def mechanism_name(self, label: str) -> str:
+        return {"0": "flank 1", "1": "flank 2", "0+1": "both flanks"}[label]
+
     @functools.cached_property
     def _facets(self) -> FacetSet:
         return FacetSet(self.normals(), self.mu, self.local)

@@ -12,9 +12,9 @@
     [model]
     kn = 1e6
     kt = 1e6
-    [model.law]
-    type = "Coulomb"           # Coulomb, EllipticOrthotropic, Huber, TransformedCoulomb, User
-    mu = 0.3                   # the law's parameters (User: limit, potential, params)
+    [model.law]                # a law in the one layout (frictionrules.read_law)
+    type = "Coulomb"           # any law of frictionrules.LAWS, "UserLaw" included
+    mu = 0.3
     [loading]
     kind = "axisymmetric"      # "plane_strain", "biaxial" (2-D)
     pressure = 1.0
@@ -28,11 +28,11 @@ from pathlib import Path
 
 from ..contact import ContactModel
 from ..errors import FrictionRulesError
+from ..laws import law_from_mapping
 from ._geometry import Assembly
 
 __all__ = ["read_config"]
 
-_LAWS = ("Coulomb", "EllipticOrthotropic", "Huber", "TransformedCoulomb", "User")
 _SAMPLE = {"lattice", "frame", "cells", "radius", "reference_axis", "tolerance", "random", "n",
            "dim", "polydispersity", "seed", "solid_fraction"}
 _LOADING = {"kind", "pressure", "axial_strain", "increments", "consolidation_increments",
@@ -44,21 +44,6 @@ def _table(doc, name, file) -> dict:
     if not isinstance(value, dict):
         raise FrictionRulesError(f"{file}: [{name}] must be a table")
     return dict(value)
-
-
-def _law(table: dict, file):
-    from .. import laws
-    name = table.pop("type", None)
-    if name not in _LAWS:
-        raise FrictionRulesError(f"{file}: [model.law] type = {name!r}; constraint: one of "
-                                 f"{', '.join(_LAWS)}")
-    try:
-        if name == "User":
-            return laws.UserLaw(table.pop("limit"), table.pop("potential", None),
-                                params=table.pop("params", None), **table)
-        return getattr(laws, name)(**table)
-    except (TypeError, KeyError) as exc:
-        raise FrictionRulesError(f"{file}: [model.law] {name}: {exc}") from None
 
 
 def read_config(path) -> tuple[Assembly, dict]:
@@ -76,7 +61,7 @@ def read_config(path) -> tuple[Assembly, dict]:
             raise FrictionRulesError(f"{file}: [{name}] unknown keys {extra}; known: {sorted(known)}")
     if "law" not in model_t or not isinstance(model_t["law"], dict):
         raise FrictionRulesError(f"{file}: missing [model.law] table")
-    law = _law(dict(model_t.pop("law")), file)
+    law = law_from_mapping(model_t.pop("law"), where=f"{file}: [model.law]")
     try:
         model = ContactModel(law, **model_t)
     except TypeError as exc:

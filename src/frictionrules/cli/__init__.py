@@ -8,7 +8,9 @@ that ``frictionrules --help`` stays fast.
 Exit codes: 0 success; 2 bad input (a usage error, a :class:`FrictionRulesError`, a missing or
 unreadable file), one line on stderr naming the argument, the value and the constraint; 1 an
 internal error (a bug: one line naming it; ``--debug`` or ``FRICTIONRULES_DEBUG=1`` shows the
-traceback); 130 interrupted.
+traceback); 130 interrupted. A reader that closes the pipe early (``| head``) changes
+nothing but what is printed: the rest of the output is discarded, the files are still written and
+the exit code is the command's own (see :mod:`._streams`).
 """
 
 from __future__ import annotations
@@ -48,7 +50,7 @@ def build_parser() -> argparse.ArgumentParser:
         prog="frictionrules",
         description="Contact friction as plasticity: laws, sliding rules, asperity mechanisms, "
                     "contact integration and multi-contact solvers.")
-    from .. import __version__
+    from .._version import __version__
     parser.add_argument("--version", action="version", version=f"frictionrules {__version__}")
     parser.add_argument("--debug", action="store_true",
                         help="show the traceback of an internal error (or FRICTIONRULES_DEBUG=1)")
@@ -72,9 +74,17 @@ def main(argv=None) -> int:
     Bad input (a :class:`FrictionRulesError`, a missing or unreadable file) and a missing
     optional package exit with code 2 and a one-line message on stderr; any other exception is
     an internal error, exit code 1, one line naming it (the traceback with ``--debug`` or
-    ``FRICTIONRULES_DEBUG=1``).
+    ``FRICTIONRULES_DEBUG=1``). Standard output and error tolerate a reader that closes the
+    pipe.
     """
+    from ._streams import tolerate_closed_pipes
+    with tolerate_closed_pipes():
+        return _main(argv)
+
+
+def _main(argv) -> int:
     from .._output import command_line
+    from ._needs import check_needs
 
     argv = [str(a) for a in (sys.argv[1:] if argv is None else argv)]
     parser = build_parser()
@@ -85,6 +95,7 @@ def main(argv=None) -> int:
     args.command_line = command_line(argv)
     debug = args.debug or os.environ.get("FRICTIONRULES_DEBUG", "") not in ("", "0")
     try:
+        check_needs(args)
         return int(args.run(args) or 0)
     except ModuleNotFoundError as exc:  # an optional package: name the extra that installs it
         from .._optional import missing_module_message

@@ -69,7 +69,8 @@ def register(sub) -> None:
     p.add_argument("--n", type=positive_int, help="number of directions (>= 4, default 360)")
     p.add_argument("--out", metavar="DIR", help="write the tables and the figure into DIR "
                                                 "(nothing is written without it)")
-    p.add_argument("--format", choices=("csv", "json"), default="csv", help="table format")
+    p.add_argument("--format", choices=("csv", "json"), default=None,
+                   help="format of the tables written with --out (default csv)")
     p.add_argument("--no-figure", action="store_true", help="do not draw the figure")
     add_quiet(p)
     p.set_defaults(run=run)
@@ -230,6 +231,10 @@ def _outputs(args):
     from .._output import check_output
     from ..errors import FrictionRulesError
     if args.out is None:
+        if args.format is not None:
+            raise FrictionRulesError(f"--format {args.format} violates: it chooses the format of "
+                                     "the tables written into --out DIR; give --out too (without "
+                                     "it the results are printed as text)")
         return None
     from .._output import FIGURE_SUFFIXES, TABLE_SUFFIXES
     out = Path(args.out)
@@ -237,7 +242,7 @@ def _outputs(args):
             FIGURE_SUFFIXES:
         raise FrictionRulesError(f"--out = {args.out!r} violates: a folder (the tables and the "
                                  "figure are written into it)")
-    ext = f".{args.format}"
+    ext = f".{args.format or 'csv'}"
     files = {"limit_curve": out / f"limit_curve{ext}", "mu_theta": out / f"mu_theta{ext}",
              "corners": out / f"corners{ext}"}
     for path in files.values():
@@ -274,12 +279,16 @@ def run(args) -> int:
                 mu_theta = np.where(locked, np.inf, np.hypot(*np.moveaxis(inv.force, -1, 0)) / Q)
         bar.phase("limit curve")
         curve = law.limit_curve(Q, n=n)
+        measured = conf["geometry"] in _MEASURED
+        if measured:    # corners within a degree or two of 180°: noise of the facet estimate
+            curve, merged = curve.merged(), len(curve.corners)
+            merged -= len(curve.corners)
         bar(2)
         if files is not None:
             bar.phase("writing")
             written = _write(files, args, conf, law, surface, curve, theta, mu_theta, locked, Q)
         bar(3)
-    _report(conf, law, surface, curve, mu_theta, locked, Q)
+    _report(conf, law, surface, curve, mu_theta, locked, Q, merged if measured else None)
     for w in caught:
         print(f"frictionrules asperity: warning: {w.message}", file=sys.stderr)
     if files is not None:
@@ -294,7 +303,9 @@ def _count(law) -> int:
     return len(normals)
 
 
-def _report(conf, law, surface, curve, mu_theta, locked, Q) -> None:
+def _report(conf, law, surface, curve, mu_theta, locked, Q, merged) -> None:
+    """Print the summary; ``merged`` is the number of noise corners merged away (None: the
+    geometry is exact and every corner is kept)."""
     import numpy as np
     facets = _count(law)
     if surface is not None:
@@ -306,7 +317,10 @@ def _report(conf, law, surface, curve, mu_theta, locked, Q) -> None:
               f"{surface.detrend}; steepest facet slope {surface.max_slope:.4g}, rms "
               f"{surface.rms_slope:.4g}")
     print(f"{type(law).__name__}: {facets} facet(s), mu = {law.mu:g}, {law.local}, Q = {Q:g}")
-    print(f"corners: {len(curve.corners)}, concave: {len(curve.concave_corners)}")
+    noise = "" if merged is None else (
+        f" (and {merged} within {np.rad2deg(curve.NOISE_CORNER):g} deg of 180 deg, merged away: "
+        "noise of the facet estimate)")
+    print(f"corners: {len(curve.corners)}, concave: {len(curve.concave_corners)}{noise}")
     for c in curve.corners[:12]:
         print(f"  T = ({c.T[0]:.6g}, {c.T[1]:.6g})  {'+'.join(map(str, c.before))} -> "
               f"{'+'.join(map(str, c.after))}  interior {np.rad2deg(c.interior):.3f} deg"
@@ -369,17 +383,41 @@ def _write(files, args, conf, law, surface, curve, theta, mu_theta, locked, Q) -
         "interior": np.array([np.rad2deg(k.interior) for k in c]),
         "concave": np.array([k.concave for k in c], dtype=bool)},
         units={"Tx": "force", "Ty": "force", "direction": "rad", "before": "-", "after": "-",
-               "interior": "deg", "concave": "1"}, metadata=meta))
+               "interior": "deg", "concave": "1"},
+        metadata={**meta, **({"note": f"corners within {np.rad2deg(curve.NOISE_CORNER):g} deg "
+                                      "of 180 deg are merged (noise of the facet estimate)"}
+                             if conf["geometry"] in _MEASURED else {})}))
     if "figure" in files:
-        import matplotlib.pyplot as plt
+        written.append(_figure(files["figure"], conf, law, curve, Q, meta))
+    return written
 
-        from ..plot.asperities import limit_curve
-        load = curve.load[fin]
-        box = float(min(2.0 * np.max(load), 4.0 * np.median(load))) if len(load) else 1.0
+
+#: Geometries measured on a real surface: their many facets are drawn by family and their
+#: noise corners merged.
+_MEASURED = ("topography", "profile", "heightmap")
+
+
+def _figure(path, conf, law, curve, Q, meta):
+    """The limit curve: by mechanism family for a measured surface, by mechanism (with the
+    potentials) for a geometry of a few facets."""
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    from .._output import write_figure
+    from ..plot.asperities import limit_curve, surface_limit_curve
+    load = curve.load[np.isfinite(curve.load)]
+    box = float(min(2.0 * np.max(load), 4.0 * np.median(load))) if len(load) else 1.0
+    rule = f"$\\mu$ = {law.mu:g}, {law.local} local rule, $Q$ = {Q:g}"
+    if conf["geometry"] in _MEASURED:
+        from pathlib import Path
+        ax = surface_limit_curve(curve, box=box)
+        ax.set_title(f"limit curve of {Path(str(conf['file'])).name}: {_count(law)} facets\n{rule}",
+                     fontsize=9)
+    else:
         ax = limit_curve(law, Q, box=box, n=max(conf["n"], 720))
-        ax.set_title(f"{type(law).__name__}, mu = {law.mu:g}, {law.local}", fontsize=9)
-        ax.legend(loc="lower left", fontsize=7)
-        written.append(write_figure(ax.figure, files["figure"], metadata=meta,
-                                    bbox_inches="tight"))
-        plt.close(ax.figure)
+        ax.set_title(f"limit curve of {type(law).__name__}, {_count(law)} facets\n{rule}",
+                     fontsize=9)
+        ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0, fontsize=7)
+    written = write_figure(ax.figure, path, metadata=meta, bbox_inches="tight")
+    plt.close(ax.figure)
     return written

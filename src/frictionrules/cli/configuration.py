@@ -217,8 +217,12 @@ def _print_polar(columns, Q, angle) -> None:
     if ok.any():
         idx = np.flatnonzero(ok)
         lo, hi = idx[np.argmin(peak[ok])], idx[np.argmax(peak[ok])]
-        print(f"pocket peak force |T|/Q: min {peak[lo] / Q:.4f} at {th[lo]:.4g} {angle} (over "
-              f"{count[lo]}), max {peak[hi] / Q:.4f} at {th[hi]:.4g} {angle} (over {count[hi]})")
+        from ..configuration.summary import climbing
+
+        def at(i):
+            degrees = "" if angle == "deg" else f" ({np.rad2deg(th[i]):.4g} deg)"
+            return f"{peak[i] / Q:.4f} at {th[i]:.4g} {angle}{degrees}, {climbing(count[i])}"
+        print(f"pocket peak force |T|/Q: least {at(lo)}; largest {at(hi)}")
     if not ok.all():
         jam = th[~ok]
         print(f"jammed (no mechanism starts) in {len(jam)} of {len(th)} directions: "

@@ -9,7 +9,8 @@ from ._common import add_quiet
 def register(sub) -> None:
     p = sub.add_parser(
         "drive", help="drive one elastic-plastic contact along a mixed-control path (TOML)",
-        description="Read [model] (kn, kt, beta, [model.law], optional [model.hardening]), optional "
+        description="Read [model] (kn, kt, beta, [model.law]: a law in the layout of "
+                    "frictionrules.read_law, any law of the table, UserLaw included), optional "
                     "[output] file (relative to the TOML file) and [[segment]] tables (targets "
                     "T1|dt1, T2|dt2, N|dn and steps) from PATH.toml, drive the contact implicitly, "
                     "print a summary and write the table (CSV, JSON or HDF5 by suffix). See "
@@ -19,16 +20,10 @@ def register(sub) -> None:
     p.add_argument("--out", metavar="FILE", help="result table (.csv, .json, .h5); overrides "
                    "[output] file")
     p.add_argument("--plot", nargs="?", const="", metavar="FILE",
-                   help="plot T1-dt1 and N-dn (.png, .svg or .pdf; without FILE: the --out file "
-                        "with suffix .png)")
+                   help="plot T1-dt1, T2-dt2 and N-dn under the law's name (.png, .svg or "
+                        ".pdf; without FILE: the --out file with suffix .png)")
     add_quiet(p)
     p.set_defaults(run=run)
-
-
-def _has_area_fraction(model) -> bool:
-    """True for laws whose state has the area fraction beta (the cap of §4)."""
-    from ..laws import EllipsoidCap
-    return isinstance(model.law, EllipsoidCap)
 
 
 def run(args) -> int:
@@ -55,7 +50,7 @@ def run(args) -> int:
     with _common.progress(args, "drive", len(path)) as bar:
         result = drive(model, path, beta=opts["beta"], progress=bar)
     F, d = result.force[-1], result.displacement[-1]
-    beta = f", β = {result.beta[-1]:.6g}" if _has_area_fraction(model) else ""
+    beta = f", β = {result.beta[-1]:.6g}" if "beta" in result.law_variables else ""
     print(f"{len(path)} steps; final T = ({F[0]:.6g}, {F[1]:.6g}), N = {F[2]:.6g}; "
           f"δ = ({d[0]:.6g}, {d[1]:.6g}, {d[2]:.6g}); κ = {result.kappa[-1]:.6g}{beta}; "
           f"plastic work {result.work[-1]:.6g}")
@@ -64,24 +59,20 @@ def run(args) -> int:
         written = result.write(out, attrs=meta)
         print(f"wrote {written}")
     if png is not None:
-        _plot(result, png, meta)
+        _plot(result, model, png, meta)
         print(f"wrote {png}")
     return 0
 
 
-def _plot(result, png, meta) -> None:
+def _plot(result, model, png, meta) -> None:
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     from .._output import write_figure
-    fig, (a, b) = plt.subplots(1, 2, figsize=(9, 3.6))
-    a.plot(result.displacement[:, 0], result.force[:, 0])
-    a.set_xlabel(r"$\delta_{t1}$")
-    a.set_ylabel(r"$T_1$")
-    b.plot(result.displacement[:, 2], result.force[:, 2])
-    b.set_xlabel(r"$\delta_n$ (opening > 0)")
-    b.set_ylabel(r"$N$ (compression > 0)")
-    fig.tight_layout()
-    write_figure(fig, png, metadata=meta, dpi=120)
-    plt.close(fig)
+    from ..plot.contact import drive_curves
+    title = f"{model.law!r}\nkn = {model.kn:g}, kt = {model.kt:g}" + (
+        f", hardening {model.hardening!r}" if model.hardening is not None else "")
+    axes = drive_curves(result, title=title)
+    write_figure(axes[0].figure, png, metadata=meta, dpi=120)
+    plt.close(axes[0].figure)

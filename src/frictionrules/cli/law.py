@@ -1,50 +1,45 @@
-"""``frictionrules law NAME --param value ... --force Tx Ty --normal N [--json]``."""
+"""``frictionrules law NAME|FILE.toml --param value ... --force Tx Ty --normal N [--json]``."""
 
 from __future__ import annotations
 
 from ._common import finite_float
 
-#: CLI name -> (class name in frictionrules, parameters it takes)
-LAWS = {
-    "coulomb": ("Coulomb", ("mu", "dilatant")),
-    "elliptic": ("EllipticOrthotropic", ("mu_x", "mu_y", "angle")),
-    "huber": ("Huber", ("mu_1", "mu_2", "angle")),
-    "transformed": ("TransformedCoulomb", ("mu_x", "mu_y", "angle")),
-    "wedge": ("WedgeAsperity", ("alpha", "mu", "local")),
-    "user": ("UserLaw", ("limit", "potential", "NAME=VALUE parameters")),
-}
-_ALIASES = {"ellipticorthotropic": "elliptic", "orthotropic": "elliptic",
-            "transformedcoulomb": "transformed", "wedgeasperity": "wedge", "userlaw": "user"}
-_ANGLES = ("angle", "alpha")
-_FLOATS = ("mu", "mu_x", "mu_y", "mu_1", "mu_2", "angle", "alpha")
-_EXPRESSIONS = ("limit", "potential")
 _BOOLEANS = {"true": True, "yes": True, "1": True, "false": False, "no": False, "0": False}
 
 
-def _law_name(text: str) -> str:
-    key = text.lower().replace("-", "").replace("_", "")
-    key = _ALIASES.get(key, key)
-    if key not in LAWS:
-        import argparse
-        raise argparse.ArgumentTypeError(
-            f"unknown law {text!r}; choose from {', '.join(LAWS)} (or the class names)")
-    return key
+def _options() -> dict:
+    """The parameters a command line can give, by name: ``(Parameter, law names taking it)``,
+    from the law table (a table of named numbers, a user law's ``params``, is given by
+    ``--param``)."""
+    from ..laws import LAWS
+    out = {}
+    for entry in LAWS.values():
+        for p in entry.parameters.values():
+            if p.kind is not dict:
+                out.setdefault(p.name, (p, []))[1].append(entry.name)
+    return out
+
+
+def _laws_help() -> str:
+    from ..laws import LAWS
+    return "; ".join(f"{e.name} ({', '.join(e.parameters)})" for e in LAWS.values())
 
 
 def add_law_arguments(p) -> None:
-    """The options that give a law's parameters (shared by the subcommands that take a law
-    as ``frictionrules law`` does; :func:`build_law` reads them)."""
-    for name in _FLOATS:
+    """The options that give a law's parameters, one per parameter of the law table (shared by
+    the subcommands that take a law as ``frictionrules law`` does; :func:`law_of_spec` reads
+    them)."""
+    for name, (par, laws) in _options().items():
         flags = sorted({f"--{name.replace('_', '-')}", f"--{name}"})
-        p.add_argument(*flags, dest=name, type=finite_float, default=None,
-                       help=f"parameter {name}" + (" (radians, or degrees with --deg)" if name in _ANGLES else ""))
-    p.add_argument("--dilatant", action="store_true", default=None, help="coulomb: associated rule (1.6)")
-    p.add_argument("--local", choices=("non-associated", "associated"), default=None,
-                   help="wedge: local sliding rule")
-    p.add_argument("--limit", default=None, metavar="EXPR",
-                   help="user: f in T1, T2, N, e.g. 'sqrt(T1^2 + T2^2) - 0.3*N' (numbers, + - * / "
-                        "** ^, sqrt, abs, exp, log, sin, cos, tan, atan, atan2, Max, Min, ...)")
-    p.add_argument("--potential", default=None, metavar="EXPR", help="user: g in T1, T2, N")
+        what = f"{', '.join(laws)}: {par.meaning}" + (" (radians, or degrees with --deg)"
+                                                      if par.unit == "rad" else "")
+        if par.kind is bool:
+            p.add_argument(*flags, dest=name, action="store_true", default=None, help=what)
+        elif par.kind is float:
+            p.add_argument(*flags, dest=name, type=finite_float, default=None, help=what)
+        else:
+            p.add_argument(*flags, dest=name, default=None, choices=par.choices or None,
+                           metavar=None if par.choices else "EXPR", help=what)
     p.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
                    help="any parameter as NAME=VALUE (repeatable); for a user law, the value of "
                         "a parameter its expressions name (--param mu=0.3)")
@@ -57,10 +52,12 @@ def register(sub) -> None:
                     "the limit surface, slip on it), the slip direction of its sliding rule when "
                     "it slips, the directional friction coefficient mu(theta) and the angle beta "
                     "of the limit force that slides at theta. theta is --theta, or the slip angle "
-                    "when the force slips, or else the direction of T. Laws and their "
-                    "parameters: " + "; ".join(f"{k} ({', '.join(v[1])})" for k, v in LAWS.items()),
+                    "when the force slips, or else the direction of T. NAME is a law of the table "
+                    "with its parameters as options, or a TOML file holding a [law] table "
+                    "(frictionrules.read_law). Laws and their parameters: " + _laws_help(),
         epilog="example: frictionrules law elliptic --mu-x 0.6 --mu-y 0.3 --force 0.3 0.2 --normal 1 --json")
-    p.add_argument("name", type=_law_name, metavar="NAME", help=f"one of: {', '.join(LAWS)}")
+    p.add_argument("name", metavar="NAME", help="a law of the table (or its class name), or "
+                   "FILE.toml")
     add_law_arguments(p)
     p.add_argument("--force", nargs=2, type=finite_float, required=True, metavar=("T1", "T2"),
                    help="tangential force (for wedge: horizontal load Tx Ty)")
@@ -76,68 +73,86 @@ def register(sub) -> None:
     p.set_defaults(run=run)
 
 
-def _param_value(key: str, value: str, item: str):
+def _param_value(par, value: str, item: str):
     from ..errors import FrictionRulesError
-    if key in _FLOATS:
+    if par.kind is float:
         import argparse
         try:
             return finite_float(value)
         except argparse.ArgumentTypeError:
-            raise FrictionRulesError(f"--param {item!r}: {key} = {value!r} violates: must be a "
-                                     "finite number") from None
-    if key == "dilatant":
+            raise FrictionRulesError(f"--param {item!r}: {par.name} = {value!r} violates: must be "
+                                     "a finite number") from None
+    if par.kind is bool:
         if value.strip().lower() not in _BOOLEANS:
-            raise FrictionRulesError(f"--param {item!r}: dilatant = {value!r} violates: true or false")
+            raise FrictionRulesError(f"--param {item!r}: {par.name} = {value!r} violates: true or "
+                                     "false")
         return _BOOLEANS[value.strip().lower()]
     return value
 
 
-def build_law(name: str, args):
-    """The law object of the CLI arguments (shared with tests and other subcommands).
+def law_of_spec(spec: str, args, what: str = "NAME"):
+    """The law of a command line: a TOML law file (:func:`frictionrules.read_law`), or a name
+    of the law table with its parameters as options. A user law parses its expressions with
+    the whitelist parser: the text is never evaluated as code."""
+    from pathlib import Path
 
-    A user law parses its expressions with the whitelist parser: the text is never evaluated
-    as code.
-    """
+    from ..errors import FrictionRulesError
+    from ..laws import law_entry, read_law
+    if spec.lower().endswith(".toml") or Path(spec).is_file():
+        given = [f"--{k.replace('_', '-')}" for k in _options() if getattr(args, k, None)
+                 is not None] + [f"--param {item}" for item in args.param]
+        if given:
+            raise FrictionRulesError(f"{what} = {spec!r} is a law file; the options {given} "
+                                     "violate: the law's parameters go in the file")
+        return read_law(spec)
+    return build_law(law_entry(spec, where=what), args)
+
+
+def build_law(entry, args):
+    """The law of the table entry ``entry`` with the parameters given as options."""
     import numpy as np
 
-    import frictionrules as fr
     from ..errors import FrictionRulesError
+    from ..laws import Parameter
 
-    cls_name, accepted = LAWS[name]
-    given = {k: getattr(args, k, None) for k in (*_FLOATS, "dilatant", "local", *_EXPRESSIONS)}
+    options = _options()
+    table = entry.parameters
+    given = {k: getattr(args, k) for k in options if getattr(args, k, None) is not None}
     flag_of = {k: f"--{k.replace('_', '-')}" for k in given}
-    named = {}  # a user law's own parameters (--param mu=0.3 for the symbol mu)
+    free = "params" in table      # the law takes named numbers (a user law's parameters)
+    named = {}
     for item in args.param:
         key, sep, value = item.partition("=")
         key = key.strip().replace("-", "_")
-        if sep and name == "user" and key not in _EXPRESSIONS and key.isidentifier():
-            named[key] = _param_value("mu", value, item)  # a number, like mu
+        par = table.get(key) or options.get(key, (None,))[0]
+        if sep and free and key.isidentifier() and (par is None or par.kind is float):
+            named[key] = _param_value(Parameter(key, "a parameter of the expressions"), value,
+                                      item)
             continue
-        if not sep or key not in given:
+        if not sep or par is None or par.kind is dict:
             raise FrictionRulesError(f"--param {item!r} violates: NAME=VALUE with NAME one of "
-                                     f"{', '.join(sorted(given))}")
-        given[key] = _param_value(key, value, item)
+                                     f"{', '.join(sorted(options))}")
+        given[key] = _param_value(par, value, item)
         flag_of[key] = f"--param {key}"
-    params = {k: v for k, v in given.items() if v is not None}
-    if name == "user":  # the number options name parameters of the user's expressions
-        named = {**{k: params.pop(k) for k in _FLOATS if k in params}, **named}
-    extra = sorted(set(params) - set(accepted))
+    if free:  # the number options name parameters of the user's expressions
+        named = {**{k: given.pop(k) for k in list(given) if k not in table}, **named}
+    extra = sorted(set(given) - set(table))
     if extra:
-        raise FrictionRulesError(f"law {name!r} takes {', '.join(accepted)}; not {', '.join(extra)}")
+        raise FrictionRulesError(f"law {entry.name!r} takes {', '.join(table)}; not "
+                                 f"{', '.join(extra)}")
     if args.deg:
-        params = {k: (float(np.deg2rad(v)) if k in _ANGLES else v) for k, v in params.items()}
-        named = {k: (float(np.deg2rad(v)) if k in _ANGLES else v) for k, v in named.items()}
-    if name == "user" and named:
-        params["params"] = named
-    import inspect
-    cls = getattr(fr, cls_name)
-    required = [k for k, p in inspect.signature(cls).parameters.items()
-                if p.default is inspect.Parameter.empty and p.kind is p.POSITIONAL_OR_KEYWORD]
-    missing = [k for k in required if k not in params]
+        def rad(k, v):
+            return float(np.deg2rad(v)) if k in options and options[k][0].unit == "rad" else v
+        given = {k: rad(k, v) for k, v in given.items()}
+        named = {k: rad(k, v) for k, v in named.items()}
+    missing = [k for k, p in table.items() if p.required and k not in given]
     if missing:
-        raise FrictionRulesError(f"law {name!r} needs {', '.join(flag_of[k] for k in missing)} "
-                                 f"(its parameters: {', '.join(accepted)})")
-    return cls(**params)
+        raise FrictionRulesError(f"law {entry.name!r} needs "
+                                 f"{', '.join(flag_of.get(k, '--' + k.replace('_', '-')) for k in missing)} "
+                                 f"(its parameters: {', '.join(table)})")
+    if named:
+        given["params"] = named
+    return entry.cls.from_parameters(**given)
 
 
 def evaluate(law, T, N, theta=None) -> dict:
@@ -186,21 +201,37 @@ def evaluate(law, T, N, theta=None) -> dict:
 _ANGLE_KEYS = ("theta", "force_angle", "force_direction")
 
 
+def law_text(law, deg: bool) -> str:
+    """``repr(law)``, with its angle parameters (``alpha``, ``angle``) in degrees when ``deg``:
+    the law as the command line was given it."""
+    import dataclasses
+
+    import numpy as np
+    if not deg or not dataclasses.is_dataclass(law):
+        return repr(law)
+    angles = {k for k, par in law.parameter_info().items() if par.unit == "rad"}
+    parts = [f"{f.name}={np.rad2deg(getattr(law, f.name)):.12g} deg" if f.name in angles
+             else f"{f.name}={getattr(law, f.name)!r}" for f in dataclasses.fields(law) if f.repr]
+    return f"{type(law).__name__}({', '.join(parts)})"
+
+
 def run(args) -> int:
     import numpy as np
 
     from .._output import dumps_json
     from . import _common
 
-    law = build_law(args.name, args)
+    law = law_of_spec(args.name, args)
     theta = None if args.theta is None else (np.deg2rad(args.theta) if args.deg else args.theta)
-    if args.name == "user":  # compiling the symbolic law takes seconds: say so on a terminal
-        with _common.progress(args, "law user") as bar:
+    if "symbolic" in law.capabilities and law.declared_traits() is None:
+        # a law known by its symbolic form only: compiling it takes seconds, say so
+        with _common.progress(args, f"law {args.name}") as bar:
             bar.phase("compiling the law")
             out = evaluate(law, np.array(args.force), args.normal, theta)
     else:
         out = evaluate(law, np.array(args.force), args.normal, theta)
     unit = "deg" if args.deg else "rad"
+    out["law"] = law_text(law, args.deg)
     if args.deg:
         out = {k: (float(np.rad2deg(v)) if k in _ANGLE_KEYS else v) for k, v in out.items()}
     if args.json:

@@ -40,6 +40,12 @@ def run(args) -> int:
         for f in chosen:
             print(f"{f.name}\n    {f.caption}")
         return 0
+    from pathlib import Path
+
+    from .._output import check_folder
+    from ..paper import EXTRA, PAPER
+    for folder in (Path(args.out), Path(args.out) / PAPER, Path(args.out) / EXTRA):
+        check_folder(folder, name="--out")
     check_requirements()
     numbers = args.numbers or not args.only
     total = len(chosen) + numbers

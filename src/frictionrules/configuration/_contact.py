@@ -66,23 +66,6 @@ def _per_law(fun):
     return call
 
 
-@_per_law
-def _traits(law) -> tuple[bool, bool]:
-    """``(homogeneous, tangential)``: the limit curve at ``N`` is ``N`` times the one at
-    ``N = 1``, and the sliding rule has no normal slip (``dg/dN = 0``)."""
-    caps = law.capabilities
-    if "cone" in caps:
-        return True, law.cone().dilatancy == 0.0
-    require(law, "symbolic", "a grain contact's sliding rule")
-    import sympy
-
-    from ..laws.symbols import N, T1, T2
-    f, g, _ = law.symbolic_form().substituted()
-    lam = sympy.Symbol("lam", positive=True)
-    ratio = sympy.simplify(f.xreplace({T1: lam * T1, T2: lam * T2, N: lam * N}) / f)
-    return ratio.free_symbols <= {lam}, sympy.simplify(sympy.diff(g, N)) == 0
-
-
 def require_sliding_law(law, where: str, tangential: bool = True) -> None:
     """Raise unless rigid grains can slide on contacts of ``law``.
 
@@ -91,16 +74,18 @@ def require_sliding_law(law, where: str, tangential: bool = True) -> None:
     centres of touching grains at the distance ``d``, so a sliding contact has no normal slip
     (``dg/dN = 0``).
     """
-    homogeneous, no_normal_slip = _traits(law)
-    if tangential and not no_normal_slip:
+    require(law, "symbolic", "a grain contact's sliding rule")
+    traits = law.traits
+    if tangential and traits.normal_slip:
         raise FrictionRulesError(
             f"{where}: law = {_short(law)} has normal slip (dg/dN != 0, a dilatant local rule); "
             "constraint: no normal slip, as rigid grains in contact keep their centres at the "
             "distance d (breakout_force accepts dilatant local laws)")
-    if not homogeneous:
+    if not traits.conical:
         raise FrictionRulesError(
-            f"{where}: law = {_short(law)}: f is not positively homogeneous in (T, N); "
-            "constraint: a limit curve at N that is N times the one at N = 1")
+            f"{where}: law = {_short(law)}: f is not positively homogeneous in (T, N) with a "
+            "slip direction of degree zero; constraint: a limit curve at N that is N times the "
+            "one at N = 1 (a conical law)")
 
 
 @dataclass(frozen=True)
@@ -268,7 +253,7 @@ class GrainContact(FrictionLaw):
     def _inverse_relation(self, theta, Q, q):
         """Closed form for a local law without normal slip (:func:`slide`); the numeric default
         otherwise."""
-        if not _traits(self.law)[1]:
+        if self.law.traits.normal_slip:
             return super()._inverse_relation(theta, Q, q)
         s = slide(self.law, np.broadcast_to(self._axes, theta.shape + (3, 3)),
                   np.stack((np.cos(theta), np.sin(theta)), axis=-1), Q)

@@ -26,7 +26,6 @@ import numpy as np
 from .._roots import brent
 from ..asperities import FacetSet
 from ..errors import FrictionRulesError
-from ..laws import Coulomb
 from ._contact import GrainContact
 from .geometry import Touching, angles, touching
 from .state import GrainState, PeakForcePolar
@@ -63,13 +62,6 @@ class Mechanism:
 _JAMMED = Mechanism(np.inf, (), np.zeros(3))
 
 
-def facet_set(normals: np.ndarray, law) -> FacetSet:
-    """The contacts as the facets of a block, each with the local law ``law`` in its frame."""
-    if type(law) is Coulomb:
-        return FacetSet(normals, law.mu, "associated" if law.dilatant else "non-associated")
-    return FacetSet(normals, law)
-
-
 @dataclass(frozen=True)
 class Support:
     """The contacts of a grain at rest at one position and the loads they carry: several
@@ -94,7 +86,7 @@ class Support:
             a, p = angles(t.normals[0], model.layer.cylindrical)
             return cls(model, position, t, None, GrainContact(model.law, float(a), float(p)))
         try:
-            facets = facet_set(t.normals, model.law)
+            facets = FacetSet(t.normals, model.law)  # the contacts as facets of a block
         except FrictionRulesError as exc:
             raise FrictionRulesError(f"the grain at {tuple(position)!r} rests on the layer grains "
                                      f"{t.ids}, which cannot carry it at rest: {exc}") from None

@@ -25,18 +25,27 @@ def key_numbers() -> list[tuple[str, str, str]]:
     ramp = np.stack((np.linspace(0.0, 2.0, 201), np.zeros(201)), axis=-1)
     lp = cyl.force_path(ramp).limit_point
     rows = [
-        ("cylinder T/Q at rest (alpha = 30 deg, mu = 0.3)", f"{ex.force[0, 0]:.4f}",
-         "§3 Fig. 8: Q tan(pi/6 + rho) = 1.0611"),
-        ("cylinder T/Q on top of the neighbour", f"{ex.force[-1, 0]:.4f}", "§3: mu Q = 0.3"),
-        ("incremental (Euler) convergence order, cylinder", f"{order:.2f}", "(3.6)-(3.10): 1"),
-        ("force control: limit point T/Q, cylinder", f"{lp.force[0]:.4f}", "(3.7): softening from rest"),
+        ("cylinder, mu = 0.3: T/Q at rest (alpha = 30 deg)", f"{ex.force[0, 0]:.4f}",
+         "Fig. 8: Q tan(pi/6 + rho) = 1.0611"),
+        ("cylinder, mu = 0.3: T/Q on top of the neighbour", f"{ex.force[-1, 0]:.4f}",
+         "§3: mu Q = 0.3"),
+        ("cylinder, mu = 0.3: incremental (Euler) convergence order", f"{order:.2f}",
+         "(3.6)-(3.10): 1"),
+        ("cylinder, mu = 0.3: force control, limit point T/Q", f"{lp.force[0]:.4f}",
+         "(3.7): softening from rest"),
     ]
     for packing in ("square", "hexagonal"):
         sph = SphereOnLayer(1.0, mu, packing=packing)
         bo = sph.breakout_force(np.linspace(0.0, 2 * np.pi, 73))
-        lo, hi = int(np.argmin(bo.peak)), int(np.argmax(bo.peak))
-        rows.append((f"{packing} pocket break-out |T|/Q min/max over force direction",
-                     f"{bo.peak[lo]:.4f} ({np.degrees(bo.direction[lo]):.0f} deg, over "
-                     f"{bo.count[lo]}) / {bo.peak[hi]:.4f} ({np.degrees(bo.direction[hi]):.0f} deg, "
-                     f"over {bo.count[hi]})", "beyond the paper"))
+        for which, i in (("least", int(np.argmin(bo.peak))), ("largest", int(np.argmax(bo.peak)))):
+            rows.append((f"{packing} pocket: {which} break-out |T|/Q over the force direction "
+                         f"({climbing(bo.count[i])})",
+                         f"{bo.peak[i]:.4f} at {np.degrees(bo.direction[i]):.0f} deg",
+                         "beyond the paper"))
     return rows
+
+
+def climbing(count: int) -> str:
+    """What the break-out mechanism does: ``"climbing over 2 layer spheres"`` (riding the
+    ridge between two) or ``"climbing over 1 layer sphere"``."""
+    return f"climbing over {count} layer sphere{'' if count == 1 else 's'}"

@@ -27,8 +27,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .layout import (LAW_PARAMS, RES_DISSIPATION, RES_DLAM, RES_FORCE, RES_SIZE, RES_SLIP, STATE_E,
-                      STATE_P, STATE_Q)
+from .layout import (LAW_PARAMS, LAW_RET, RES_DISSIPATION, RES_DLAM, RES_FORCE, RES_SIZE,
+                     RES_SLIP, STATE_E, STATE_P, STATE_Q)
 
 __all__ = ["GeneratedKernel", "CompiledLaw", "compiled_law", "law_row", "generated_kernel",
            "generated_step", "cache_dir"]
@@ -64,7 +64,7 @@ def module_source(form, law_name: str) -> str:
     """Source of the generated module of a symbolic form: the law's three local functions
     (deterministic: the same form gives the same bytes, so a cached module and its machine code
     stay valid)."""
-    from .. import __version__
+    from .._version import __version__
     from ..codegen import local_program, parameter_temps, python_function
 
     head = [
@@ -76,7 +76,7 @@ def module_source(form, law_name: str) -> str:
         "",
         "from numba import cfunc",
         "",
-        "from frictionrules.contact._return_kernel import LOCAL_SIGNATURE",
+        "from frictionrules.contact._kernel_law import LOCAL_SIGNATURE",
         "",
     ]
     deco = '@cfunc(LOCAL_SIGNATURE, cache=True, error_model="numpy")'
@@ -194,10 +194,13 @@ def law_row(law, kt: float, kn: float) -> np.ndarray:
     """The row of :mod:`frictionrules.contact.layout` for ``law`` with stiffnesses ``kt, kn``."""
     names = tuple(law.state_names)
     kappa = names.index("kappa") if "kappa" in names else 0
+    from ..codegen import return_constants
+    from ..laws import form_of
     head = [float(kt), float(kn), float(not law.defined_in_tension), float(len(names)),
             float("kappa" in names), float(kappa)]
-    assert len(head) == LAW_PARAMS
-    row = np.concatenate((head, parameter_values(law)))
+    assert len(head) == LAW_RET
+    row = np.concatenate((head, return_constants(form_of(law)), parameter_values(law)))
+    assert row.size == LAW_PARAMS + parameter_values(law).size
     row.flags.writeable = False
     return row
 

@@ -1,13 +1,15 @@
-"""Compiled (Numba) batched updates: Coulomb, elliptic orthotropic and the ellipsoidal cap.
+"""Compiled (Numba) batched updates written by hand: Coulomb and the ellipsoidal cap.
 
 Imported on first use (Numba loads here, not at ``import frictionrules``). Each kernel loops
 over contacts in parallel (``prange``) and writes into preallocated outputs; arrays are
 row-major ``(n, 3)`` for displacements ``(δt1, δt2, δn)`` and forces ``(T1, T2, N)``, ``(n,)``
 otherwise. Inputs: the elastic and plastic displacements ``e``, ``p``, the slip ``kappa`` and
 the increments ``du``. The equations are those of :mod:`frictionrules.contact.integrate`,
-solved in closed form (Coulomb: radial return) or by a scalar Newton iteration (ellipse: the
-closest point in the energy metric). The tests compare both kernels with the generic return
-mapping; ``benchmarks/c/contact_kernels.c`` is the same arithmetic in C.
+solved in closed form (Coulomb: radial return) or by a reduced Newton iteration (the cap). The
+tests compare both kernels with the generic return mapping;
+``benchmarks/c/contact_kernels.c`` is the Coulomb arithmetic in C. They stay while they are
+faster than the return generated from the law's symbolic form by more than 10 %
+(``benchmarks/contact_update.py``).
 """
 
 from __future__ import annotations
@@ -134,73 +136,6 @@ def coulomb_update_serial(e, p, kappa, du, kt, kn, mu, dilatant,
     for i in range(e.shape[0]):
         _coulomb_update_one(i, e, p, kappa, du, kt, kn, mu, dilatant, out_e, out_p, out_kappa,
                             out_force, out_dlam, out_status, out_diss)
-
-
-@njit(inline="always", error_model="numpy")
-def _elliptic_update_one(i, e, p, kappa, du, kt, kn, mu_x, mu_y, c, s, out_e, out_p, out_kappa,
-                         out_force, out_dlam, out_status, out_diss):
-    e0, e1, e2, T1, T2, N = _trial(i, e, du, kt, kn)
-    if N <= 0.0:
-        _open(i, e2, p, kappa, out_e, out_p, out_kappa, out_force, out_dlam, out_status, out_diss, e0,
-              e1)
-        return
-    a1 = c * T1 + s * T2
-    a2 = -s * T1 + c * T2
-    rho = np.sqrt((a1 / mu_x) ** 2 + (a2 / mu_y) ** 2)
-    if rho <= N:
-        _elastic(i, e0, e1, e2, T1, T2, N, p, kappa, out_e, out_p, out_kappa, out_force, out_dlam,
-                 out_status, out_diss)
-        return
-    N2 = N * N
-    x = 0.0
-    for _ in range(100):
-        d1 = mu_x + x / mu_x
-        d2 = mu_y + x / mu_y
-        q1 = a1 * a1 / (d1 * d1)
-        q2 = a2 * a2 / (d2 * d2)
-        phi = q1 + q2 - N2
-        dphi = -2.0 * (q1 / (d1 * mu_x) + q2 / (d2 * mu_y))
-        dx = -phi / dphi
-        x += dx
-        if dx <= 1e-15 * x:
-            break
-    b1 = a1 / (1.0 + x / (mu_x * mu_x))
-    b2 = a2 / (1.0 + x / (mu_y * mu_y))
-    dl = x * N / kt
-    g1 = b1 / (mu_x * mu_x * N)
-    g2 = b2 / (mu_y * mu_y * N)
-    _plastic(i, e0, e1, e2, c * b1 - s * b2, s * b1 + c * b2, N, kt, kn, dl,
-             dl * np.sqrt(g1 * g1 + g2 * g2),
-             p, kappa, out_e, out_p, out_kappa, out_force, out_dlam, out_status, out_diss)
-
-
-@njit(parallel=True, cache=True, error_model="numpy")
-def elliptic_update(e, p, kappa, du, kt, kn, mu_x, mu_y, angle,
-                    out_e, out_p, out_kappa, out_force, out_dlam, out_status, out_diss):
-    r"""Closest-point return onto the ellipse :math:`\sqrt{(T'_1/\mu_x)^2 + (T'_2/\mu_y)^2} = N`.
-
-    With ``g = ρ(T')`` (no normal slip) and the isotropic tangential stiffness, backward Euler
-    gives :math:`T'_i = a_i/(1 + x/\mu_i^2)` (``a`` the trial force in the principal frame,
-    :math:`x = k_t\Delta\lambda/N`) and the scalar equation
-    :math:`\phi(x) = \sum_i a_i^2/(\mu_i + x/\mu_i)^2 - N^2 = 0`, convex and decreasing, which
-    Newton's method from ``x = 0`` solves monotonically.
-    """
-    c = np.cos(angle)
-    s = np.sin(angle)
-    for i in prange(e.shape[0]):
-        _elliptic_update_one(i, e, p, kappa, du, kt, kn, mu_x, mu_y, c, s, out_e, out_p, out_kappa,
-                             out_force, out_dlam, out_status, out_diss)
-
-
-@njit(cache=True, error_model="numpy")
-def elliptic_update_serial(e, p, kappa, du, kt, kn, mu_x, mu_y, angle,
-                           out_e, out_p, out_kappa, out_force, out_dlam, out_status, out_diss):
-    """Serial twin of :func:`elliptic_update` for small batches (no thread launch)."""
-    c = np.cos(angle)
-    s = np.sin(angle)
-    for i in range(e.shape[0]):
-        _elliptic_update_one(i, e, p, kappa, du, kt, kn, mu_x, mu_y, c, s, out_e, out_p, out_kappa,
-                             out_force, out_dlam, out_status, out_diss)
 
 
 @njit(inline="always")
@@ -343,37 +278,38 @@ def outputs(n: int) -> tuple:
 SERIAL_BELOW = 2048
 
 
+def _coulomb(serial, e, p, q, du, kt, kn, params, out):
+    mu, dilatant = params
+    (coulomb_update_serial if serial else coulomb_update)(e, p, np.zeros(len(e)), du, kt, kn, mu,
+                                                          bool(dilatant), *out)
+    return q.copy(), out[2]
+
+
+def _cap(serial, e, p, q, du, kt, kn, params, out):
+    kappa, beta = np.ascontiguousarray(q[:, 0]), np.ascontiguousarray(q[:, 1])
+    beta1 = np.empty(len(e))
+    (cap_update_serial if serial else cap_update)(e, p, kappa, beta, du, kt, kn, *params,
+                                                  *out[:3], beta1, *out[3:])
+    return np.stack((out[2], beta1), axis=-1), out[2] - q[:, 0]
+
+
+#: The hand-written kernels, by the name a law's closed-form return gives: each runs a batch
+#: and returns the new internal variables and the accumulated slip of the step.
+KERNELS = {"coulomb": _coulomb, "cap": _cap}
+
+
 def run_kernel(cfr, kt, kn, e, p, q, du):
     """Run a law's closed-form return ``cfr`` (:class:`~frictionrules.laws.ClosedFormReturn`).
 
-    ``q`` holds the law's internal variables ``(n, nq)``: none for Coulomb and the elliptic law,
-    ``(kappa, beta)`` for the cap. Returns the step's rows and a boolean array of contacts whose
+    ``q`` holds the law's internal variables ``(n, nq)``: none for Coulomb, ``(kappa, beta)``
+    for the cap. Returns the step's rows and a boolean array of contacts whose
     iteration failed (the caller integrates those with the derived return mapping).
     """
     from ._step import Step
-    serial = len(e) < SERIAL_BELOW
     out = outputs(len(e))
     e, p, du = (np.ascontiguousarray(a) for a in (e, p, du))
-    if cfr.kernel == "cap":
-        cap = cap_update_serial if serial else cap_update
-        kappa, beta = np.ascontiguousarray(q[:, 0]), np.ascontiguousarray(q[:, 1])
-        beta1 = np.empty(len(e))
-        cap(e, p, kappa, beta, du, kt, kn, *cfr.params, *out[:3], beta1, *out[3:])
-        q1 = np.stack((out[2], beta1), axis=-1)
-    else:
-        zero = np.zeros(len(e))
-        if cfr.kernel == "coulomb":
-            mu, dilatant = cfr.params
-            (coulomb_update_serial if serial else coulomb_update)(e, p, zero, du, kt, kn, mu,
-                                                                  bool(dilatant), *out)
-        elif cfr.kernel == "elliptic":
-            (elliptic_update_serial if serial else elliptic_update)(e, p, zero, du, kt, kn,
-                                                                    *cfr.params, *out)
-        else:
-            raise ValueError(f"unknown compiled return {cfr.kernel!r}")
-        q1 = q.copy()
-    e1, p1, kappa1, force, dlam, status, diss = out
+    q1, slip = KERNELS[cfr.kernel](len(e) < SERIAL_BELOW, e, p, q, du, kt, kn, cfr.params, out)
+    e1, p1, _, force, dlam, status, diss = out
     failed = status < 0
     status = np.where(failed, 0, status).astype(np.int64)
-    slip = kappa1 - q[:, 0] if cfr.kernel == "cap" else kappa1
     return Step(e1, p1, q1, force, dlam, status, diss, np.where(failed, 0.0, slip)), failed

@@ -10,11 +10,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._returnspec import ELASTIC, MAX_SUBSTEP_DEPTH, OPEN, PLASTIC, TOL
 from ..errors import FrictionRulesError
-from .state import ELASTIC, OPEN, PLASTIC
-
-#: Halvings of a step whose return mapping does not converge, before giving up.
-MAX_SUBSTEP_DEPTH = 10
 
 
 @dataclass(frozen=True, eq=False)
@@ -72,7 +69,7 @@ def generic_step(surface, e, p, q, du, Dv, kappa_index, depth=0) -> Step:
     none): a return that ends at the apex of a cone turns the whole tangential elastic
     displacement into slip, and κ grows by its length (4.5).
     """
-    from .integrate import TOL, return_map
+    from .integrate import return_map
     n = len(e)
     e_tr = e + du
     sig = trial(e_tr, Dv)

@@ -130,7 +130,10 @@ class DriveResult:
     ----------
     force : (rows, 3) ``(T1, T2, N)``; displacement, plastic : (rows, 3) ``(δt1, δt2, δn)``
     and its plastic part; kappa, beta : (rows,); work : (rows,) cumulative plastic work;
-    status : (rows,) 0 elastic, 1 plastic, 2 open (of the step that ended there).
+    status : (rows,) 0 elastic, 1 plastic, 2 open (of the step that ended there);
+    law_variables : the internal variables of the law (``law.state_names``): the table has a
+    ``beta`` column only for a law with the area fraction β (the cap of §4), whose ``beta``
+    otherwise stays at its initial value and means nothing.
     """
 
     force: np.ndarray
@@ -141,9 +144,11 @@ class DriveResult:
     work: np.ndarray
     status: np.ndarray
     final: ContactState = field(repr=False)
+    law_variables: tuple[str, ...] = ("kappa", "beta")
 
     def columns(self) -> dict[str, np.ndarray]:
-        """The table as named columns (see :data:`COLUMNS`)."""
+        """The table as named columns (see :data:`COLUMNS`; ``beta`` only where the law has
+        it)."""
         out = {"step": np.arange(len(self.kappa))}
         for k, name in enumerate(("T1", "T2", "N")):
             out[name] = self.force[:, k]
@@ -151,7 +156,8 @@ class DriveResult:
             out[name] = self.displacement[:, k]
             out[name + "p"] = self.plastic[:, k]
         out.update(kappa=self.kappa, beta=self.beta, work=self.work, status=self.status)
-        return {name: out[name] for name in COLUMNS}
+        return {name: out[name] for name in COLUMNS
+                if name != "beta" or "beta" in self.law_variables}
 
     def to_csv(self, path, attrs=None) -> _FilePath:
         """Write the table as CSV (atomically): column names, ``# units`` and ``attrs`` comment
@@ -254,7 +260,7 @@ def drive(model: ContactModel, path, state: ContactState | None = None, *, beta=
         beta=np.array([float(r[1].beta) for r in rows]),
         work=np.array([r[2] for r in rows]),
         status=np.array([r[3] for r in rows]),
-        final=state)
+        final=state, law_variables=tuple(model.effective_law.state_names))
 
 
 def _extended_force(model, res):
@@ -317,25 +323,6 @@ def _table(value, where: str, file) -> dict:
     return dict(value)
 
 
-def _law_from_table(table: dict, file=""):
-    from .. import laws
-    from ..laws import AreaGrowth, AreaHardening, EllipsoidCap
-    table = _table(table, "[model.law]", file)
-    name = table.pop("type", None)
-    known = ("Coulomb", "EllipticOrthotropic", "Huber", "TransformedCoulomb", "WedgeAsperity")
-    if name not in (*known, "EllipsoidCap"):
-        raise FrictionRulesError(f"{file}: [model.law] type = {name!r}; constraint: one of "
-                                 f"{known + ('EllipsoidCap',)}")
-    try:
-        if name == "EllipsoidCap":
-            A = AreaHardening(**{k: table.pop(k) for k in ("p", "h", "kappa_h") if k in table})
-            B = AreaGrowth(**{k: table.pop(k) for k in ("b",) if k in table})
-            return EllipsoidCap(A=A, B=B, **table)
-        return getattr(laws, name)(**table)
-    except TypeError as exc:
-        raise FrictionRulesError(f"{file}: [model.law] {name}: {exc}") from exc
-
-
 def read_toml(file):
     """Read a drive file: ``(model, path, options)``.
 
@@ -345,13 +332,9 @@ def read_toml(file):
         kn = 100.0
         kt = 100.0
         beta = 0.5                  # initial area fraction
-        [model.law]
-        type = "EllipsoidCap"       # or Coulomb, EllipticOrthotropic, Huber, TransformedCoulomb,
-                                    # WedgeAsperity
+        [model.law]                 # a law in the one layout (frictionrules.read_law)
+        type = "EllipsoidCap"       # any law of frictionrules.LAWS, "UserLaw" included
         m = 0.6
-        [model.hardening]           # optional SlipHardening of a protocol law
-        h = 0.2
-        kappa_h = 0.05
         [output]
         file = "out.csv"            # optional: .csv, .json or .h5, relative to this file's folder
         [[segment]]
@@ -363,7 +346,7 @@ def read_toml(file):
     ``options`` holds ``beta`` and the output file (or None).
     """
     from .._toml import load_toml
-    from ..laws import SlipHardening
+    from ..laws import SlipHardening, law_from_mapping
     file = _FilePath(file)
     doc = load_toml(file)
     unknown = sorted(set(doc) - {"model", "output", "segment"})
@@ -372,11 +355,12 @@ def read_toml(file):
     model_t = _table(doc.get("model", {}), "[model]", file)
     if "law" not in model_t:
         raise FrictionRulesError(f"{file}: missing [model.law] table")
-    law = _law_from_table(model_t.pop("law"), file)
-    hard = model_t.pop("hardening", None)
+    law = law_from_mapping(model_t.pop("law"), where=f"{file}: [model.law]")
+    hard = model_t.pop("hardening", None)  # the spelling before [model.law.hardening]
     beta = model_t.pop("beta", 0.5)
     try:
-        hardening = SlipHardening(**_table(hard, "[model.hardening]", file)) if hard else None
+        hardening = SlipHardening.from_parameters(**_table(hard, "[model.hardening]", file)) \
+            if hard else None
         model = ContactModel(law, hardening=hardening, **model_t)
     except TypeError as exc:
         raise FrictionRulesError(f"{file}: [model]: {exc}") from exc

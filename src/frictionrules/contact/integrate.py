@@ -32,17 +32,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._returnspec import KINK_POINTS, MAX_HALVINGS, MAX_ITER, SUFFICIENT_DECREASE, TOL, kink_circle
 from ..laws import LocalDerivatives
 from ..laws.base import safe_ratio
-
-#: Newton tolerance on the dimensionless residual: a few hundred ulps of the force scale, far
-#: below any physical tolerance and reached in one or two quadratic steps from 1e-7.
-TOL = 1e-13
-#: Newton iterations before a contact is substepped (quadratic convergence needs < 10).
-MAX_ITER = 60
-#: Step halvings of the backtracking line search (down to 2^-12 of a Newton step).
-MAX_HALVINGS = 12
-
 
 class Surface:
     r"""A law of the protocol seen by the return mapping: forces ``sigma = (T1, T2, N)`` and the
@@ -64,16 +56,27 @@ class Surface:
         return np.maximum(sigma[:, 2], 0.0) if self._clip else sigma[:, 2]
 
     def limit(self, sigma, q):
-        return self.law.limit(sigma[:, :2], self._N(sigma), q)
+        """f at ``(sigma, q)`` from the law's symbolic form, by the kink rule where it is not
+        finite (:mod:`frictionrules._returnspec`)."""
+        return self.evaluate(sigma, q).f
+
+    def _kink(self, sigma, q):
+        """The kink rule: the largest f on a small circle around T (every path uses it)."""
+        t1, t2 = kink_circle(sigma[:, 0], sigma[:, 1], self._N(sigma))
+        n = len(sigma)
+        ring = np.repeat(sigma[None], KINK_POINTS, axis=0)
+        ring[..., 0], ring[..., 1] = t1, t2
+        ring = ring.reshape(-1, 3)
+        f = self.law.local_derivatives(ring[:, :2], self._N(ring), np.tile(q, (KINK_POINTS, 1))).f
+        return np.max(np.reshape(f, (KINK_POINTS, n)), axis=0)
 
     def evaluate(self, sigma, q) -> LocalDerivatives:
         loc = self.law.local_derivatives(sigma[:, :2], self._N(sigma), q)
         parts = {k: getattr(loc, k) for k in LocalDerivatives.__dataclass_fields__}
         bad = ~np.isfinite(parts["f"])
         if bad.any():
-            # a removable singularity of the symbolic f (e.g. 0/0 at T = 0): the law's own value
             parts["f"] = parts["f"].copy()
-            parts["f"][bad] = self.limit(sigma[bad], q[bad])
+            parts["f"][bad] = self._kink(sigma[bad], q[bad])
         for k, a in parts.items():
             if k != "f":
                 parts[k] = np.where(np.isfinite(a), a, 0.0)
@@ -192,7 +195,7 @@ def return_map(surface, sigma_tr, q_n, Dv) -> ReturnResult:
             loc_k = surface.evaluate(sig_k, q_k)
             R_k = _residual(loc_k, sig_k, q_k, lam_k, sigma_tr[k], q_n[k], Dv) * rows[k]
             m_k = np.linalg.norm(R_k, axis=-1)
-            accept = np.isfinite(m_k) & (m_k <= (1 - 1e-4 * alpha[pending]) * merit[k])
+            accept = np.isfinite(m_k) & (m_k <= (1 - SUFFICIENT_DECREASE * alpha[pending]) * merit[k])
             acc = k[accept]
             sigma[acc], q[acc], dlam[acc] = sig_k[accept], q_k[accept], lam_k[accept]
             R[acc], merit[acc] = R_k[accept], m_k[accept]

@@ -10,8 +10,10 @@ a field by a bare number.
 ==========  ======================================================================
 law row     ``kt, kn`` stiffnesses (4.2); ``clip`` 1 for a law evaluated at
             ``max(N, 0)``; ``nq`` internal variables; ``has_kappa`` 1 when one of them
-            is the accumulated slip κ, ``kappa`` its column; then the law's parameter
-            values and its parameter-only subexpressions
+            is the accumulated slip κ, ``kappa`` its column; ``ret`` the block of how
+            the return is solved (:func:`frictionrules.codegen.return_constants`:
+            kind, linear flag, the elliptic return's frame, eigenvalues and ratio); then
+            the law's parameter values and its parameter-only subexpressions
             (:func:`frictionrules.contact._generated.parameter_values`)
 state row   ``e`` elastic displacement ``δᵉ`` (3), ``p`` plastic displacement ``δᵖ`` (3),
             ``q`` the law's internal variables (``nq``; a row may be longer: the
@@ -26,7 +28,11 @@ Signs as everywhere (``docs/conventions.md``): ``δn > 0`` opening, ``N > 0`` co
 
 from __future__ import annotations
 
-__all__ = ["LAW_KT", "LAW_KN", "LAW_CLIP", "LAW_NQ", "LAW_HAS_KAPPA", "LAW_KAPPA", "LAW_PARAMS",
+from .._returnspec import RETURN_SIZE
+
+__all__ = ["LAW_KT", "LAW_KN", "LAW_CLIP", "LAW_NQ", "LAW_HAS_KAPPA", "LAW_KAPPA", "LAW_RET",
+           "RET_KIND", "RET_LINEAR", "RET_COS", "RET_SIN", "RET_ALPHA1", "RET_ALPHA2", "RET_C",
+           "LAW_PARAMS",
            "STATE_E", "STATE_P", "STATE_Q", "state_size", "RES_FORCE", "RES_DLAM",
            "RES_DISSIPATION", "RES_SLIP", "RES_SIZE", "LAW_FIELDS", "STATE_FIELDS",
            "RESULT_FIELDS"]
@@ -34,8 +40,12 @@ __all__ = ["LAW_KT", "LAW_KN", "LAW_CLIP", "LAW_NQ", "LAW_HAS_KAPPA", "LAW_KAPPA
 #: Fields of a law's row before its parameters, in order.
 LAW_FIELDS = ("kt", "kn", "clip", "nq", "has_kappa", "kappa")
 LAW_KT, LAW_KN, LAW_CLIP, LAW_NQ, LAW_HAS_KAPPA, LAW_KAPPA = range(len(LAW_FIELDS))
+#: Offset of the return's block in a law's row, and the fields of that block.
+LAW_RET = len(LAW_FIELDS)
+RET_KIND, RET_LINEAR, RET_COS, RET_SIN, RET_ALPHA1, RET_ALPHA2, RET_C = (LAW_RET + k
+                                                                       for k in range(7))
 #: Offset of the law's parameter values in its row.
-LAW_PARAMS = len(LAW_FIELDS)
+LAW_PARAMS = LAW_RET + RETURN_SIZE
 
 #: Fields of a contact's state row and their lengths (``q``: the law's ``nq``).
 STATE_FIELDS = (("e", 3), ("p", 3), ("q", None))

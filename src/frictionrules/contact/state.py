@@ -12,13 +12,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._returnspec import ELASTIC, OPEN, PLASTIC  # the status codes of an update, per contact
 from ..errors import FrictionRulesError, check_finite
 from ..laws import LawState
 
 __all__ = ["ContactState", "UpdateResult", "ELASTIC", "PLASTIC", "OPEN"]
 
-#: Status codes of an update, per contact.
-ELASTIC, PLASTIC, OPEN = 0, 1, 2
 
 
 def _frozen(a) -> np.ndarray:

@@ -49,8 +49,14 @@ class Fig10Setup:
         """``A(0, β0)``: the normal force at the top of the initial surface."""
         return self.p * self.beta
 
-    def describe(self, sep: str = "; ") -> str:
-        """The parameters, for captions: two parts joined by ``sep``."""
+    def describe(self, sep: str = "; ", math: bool = False) -> str:
+        """The parameters, for captions: two parts joined by ``sep``; in matplotlib's math text
+        (for figure titles beside math-text axis labels) when ``math``."""
+        if math:
+            return (f"$m$ = {self.m:g}, $k_n$ = {self.kn:g}, $k_t$ = {self.kt:g}, $\\beta_0$ = "
+                    f"{self.beta:g}{sep}$A = p\\beta[1 + h(1 - e^{{-\\kappa/\\kappa_h}})]$ with "
+                    f"$p$ = {self.p:g}, $h$ = {self.h:g}, $\\kappa_h$ = {self.kappa_h:g}, "
+                    f"$B = b\\beta(1 - \\beta)$ with $b$ = {self.b:g}")
         return (f"m = {self.m:g}, kn = {self.kn:g}, kt = {self.kt:g}, β0 = {self.beta:g}{sep}"
                 f"A = pβ[1 + h(1 − exp(−κ/κh))] with p = {self.p:g}, h = {self.h:g}, "
                 f"κh = {self.kappa_h:g}, B = bβ(1 − β) with b = {self.b:g}")
@@ -109,7 +115,7 @@ def key_numbers() -> list[tuple[str, str, str]]:
         k = t.peak
         rows.append((f"cap, test {t.name} (N = {t.N:g}): peak T{t.name}′ (at δt1)",
                      f"{t.T[k]:.4f} ({t.slip[k]:.4f})", "Fig. 10c"))
-        rows.append((f"cap, test {t.name}: final T/N, {t.name}_c (asymptote m = {FIG10.m:g})",
+        rows.append((f"cap, test {t.name} (N = {t.N:g}): final T/N, {t.name}_c (asymptote m = {FIG10.m:g})",
                      f"{t.T[-1] / t.N:.4f}", "Fig. 10c, (4.9)"))
-        rows.append((f"cap, test {t.name}: final β (β0 = {FIG10.beta:g})", f"{t.result.beta[-1]:.4f}", "(4.5)"))
+        rows.append((f"cap, test {t.name} (N = {t.N:g}): final β (β0 = {FIG10.beta:g})", f"{t.result.beta[-1]:.4f}", "(4.5)"))
     return rows

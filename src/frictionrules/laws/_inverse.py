@@ -12,7 +12,7 @@ from ..errors import FrictionRulesError
 from .._roots import bisect_boundary, brent
 from ._records import InverseRelation
 
-_GRID = 720          # points on the limit curve scanned for brackets
+GRID = 720          # points on the limit curve scanned for brackets
 _MAX_DOUBLINGS = 60  # radial bracket growth before a direction is called unbounded
 
 
@@ -20,7 +20,7 @@ def _wrap(a: np.ndarray) -> np.ndarray:
     return (a + np.pi) % (2.0 * np.pi) - np.pi
 
 
-def _radius(law, centre: np.ndarray, n: float, phi: np.ndarray, scale: float, q) -> np.ndarray:
+def radius(law, centre: np.ndarray, n: float, phi: np.ndarray, scale: float, q) -> np.ndarray:
     """Distance from ``centre`` to the limit curve along angles ``phi`` (inf if unbounded)."""
     e = np.stack((np.cos(phi), np.sin(phi)), axis=-1)
     nn = np.full(phi.shape, n)
@@ -52,14 +52,14 @@ def _solve_one(law, theta: float, n: float, q) -> tuple[np.ndarray, bool]:
             f"the generic inverse needs a point inside the limit curve: f(centre={centre.tolist()}, "
             f"{law.normal_name}={n!r}) = {f0!r} violates f < 0")
     scale = max(abs(n), float(np.hypot(*centre)), 1.0)
-    phi = np.linspace(-np.pi, np.pi, _GRID, endpoint=False)
-    r = _radius(law, centre, n, phi, scale, q)
+    phi = np.linspace(-np.pi, np.pi, GRID, endpoint=False)
+    r = radius(law, centre, n, phi, scale, q)
 
     def point(ph, rad):
         return centre + rad * np.array([np.cos(ph), np.sin(ph)])
 
     def mismatch(ph):
-        rad = float(_radius(law, centre, n, np.array([ph]), scale, q)[0])
+        rad = float(radius(law, centre, n, np.array([ph]), scale, q)[0])
         s = law.slip_direction(point(ph, rad), n, q)
         return float(_wrap(np.arctan2(s[1], s[0]) - theta))
 
@@ -72,9 +72,9 @@ def _solve_one(law, theta: float, n: float, q) -> tuple[np.ndarray, bool]:
     best, best_norm = None, np.inf
     for k in brackets:
         a = phi[k]
-        b = phi[k] + 2.0 * np.pi / _GRID
+        b = phi[k] + 2.0 * np.pi / GRID
         ph = brent(mismatch, a, b, float(d[k]), float(d_next[k]))
-        rad = float(_radius(law, centre, n, np.array([ph]), scale, q)[0])
+        rad = float(radius(law, centre, n, np.array([ph]), scale, q)[0])
         T = point(ph, rad)
         if np.hypot(*T) < best_norm:
             best, best_norm = T, float(np.hypot(*T))

@@ -34,14 +34,15 @@ multi-contact problem, an exporter) by :func:`require`:
 
 from __future__ import annotations
 
-import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..errors import FrictionRulesError, check_finite, check_nonnegative, check_vectors
+from ._params import Parameterized
 from ._records import Cone, InverseRelation
 from ._state import LawState
+from ._traits import LawTraits
 
 __all__ = ["FrictionLaw", "RuleComparison", "compare_rules", "InverseRelation", "Cone",
            "require", "CAPABILITIES"]
@@ -110,7 +111,7 @@ def unit3(grad: np.ndarray) -> np.ndarray:
     return v
 
 
-class FrictionLaw:
+class FrictionLaw(Parameterized):
     """Interface of a friction law: limit condition f, sliding potential g and what follows.
 
     Subclasses are frozen dataclasses holding parameters only. A law either gives its
@@ -178,12 +179,19 @@ class FrictionLaw:
     @property
     def parameters(self) -> dict[str, float]:
         """The law's numeric parameters, name -> value (what :func:`frictionrules.fit` fits)."""
-        out = {}
-        for f in dataclasses.fields(self):
-            v = getattr(self, f.name)
-            if isinstance(v, float):
-                out[f.name] = v
-        return out
+        return {k: v for k, v in self.arguments().items() if isinstance(v, float)}
+
+    def parameter_info(self) -> dict:
+        """:class:`~frictionrules.laws.Parameter` (meaning, unit, bounds) of each numeric
+        parameter that the law's table declares."""
+        table = self.parameter_table()
+        return {k: table[k] for k in self.parameters if k in table}
+
+    @property
+    def parameter_descriptions(self) -> dict[str, str]:
+        """The law's own words for its parameters, name -> text (a user law's; the built-in
+        laws' parameters are described by their classes' docstrings): empty by default."""
+        return {}
 
     def replace(self, **changes) -> "FrictionLaw":
         """A copy of the law with some parameters changed (validated like the constructor)."""
@@ -191,7 +199,7 @@ class FrictionLaw:
         if unknown:
             raise FrictionRulesError(f"parameters {unknown} violate: the law's parameters are "
                                      f"{sorted(self.parameters)}")
-        return dataclasses.replace(self, **changes)
+        return type(self).from_parameters(**{**self.arguments(), **changes})
 
     # ---- the symbolic form -----------------------------------------------------------------
     def symbolic_form(self):
@@ -295,8 +303,23 @@ class FrictionLaw:
 
     @property
     def tangentially_associated(self) -> bool:
-        """True when the tangential slip is normal to the limit curve at fixed N."""
-        return self.associated
+        """True when the tangential slip is normal to the limit curve at fixed N (a trait)."""
+        return self.traits.tangentially_associated
+
+    @property
+    def traits(self) -> LawTraits:
+        """What the layers above ask of the law (:class:`LawTraits`: homogeneity, normal slip,
+        normality in the sliding plane, coupling through the internal variables, convexity),
+        declared in closed form by the built-in laws, otherwise derived once from the symbolic
+        form; cached per law."""
+        from ._traits import traits_of
+        return traits_of(self)
+
+    def declared_traits(self) -> LawTraits | None:
+        """The law's traits in closed form, or ``None`` (then derived from the symbolic form).
+
+        A law that declares them has a test comparing them with the derived ones."""
+        return None
 
     def cone(self, q=None) -> Cone:
         """The elliptic-cone form of the law (capability ``"cone"``) at the state ``q``."""

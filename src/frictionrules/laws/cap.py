@@ -36,19 +36,21 @@ Sign convention: in frictionrules the normal plastic displacement is positive on
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import FrictionRulesError, check_finite, check_scalar
+from ..errors import FrictionRulesError, check_finite
+from ._params import Parameterized, parameter
 from ._state import LawState
+from ._traits import LawTraits
 from .base import FrictionLaw
 
 __all__ = ["AreaGrowth", "AreaHardening", "EllipsoidCap", "state_symbols"]
 
 
 @dataclass(frozen=True)
-class AreaHardening:
+class AreaHardening(Parameterized):
     r"""Default :math:`A(\kappa, \beta) = p\,\beta\,[1 + h(1 - e^{-\kappa/\kappa_h})]`.
 
     Parameters
@@ -61,14 +63,11 @@ class AreaHardening:
         Slip length over which the slip hardening saturates, ``> 0``.
     """
 
-    p: float = 2.0
-    h: float = 0.25
-    kappa_h: float = 0.05
-
-    def __post_init__(self):
-        object.__setattr__(self, "p", check_scalar("p", self.p, lo=0.0, lo_open=True))
-        object.__setattr__(self, "h", check_scalar("h", self.h, lo=-1.0, lo_open=True))
-        object.__setattr__(self, "kappa_h", check_scalar("kappa_h", self.kappa_h, lo=0.0, lo_open=True))
+    p: float = parameter("force scale of the cap", "force", lo=0.0, lo_open=True, default=2.0)
+    h: float = parameter("relative slip hardening at saturation", lo=-1.0, lo_open=True,
+                         default=0.25)
+    kappa_h: float = parameter("slip scale of the hardening", "length", lo=0.0, lo_open=True,
+                               default=0.05)
 
     def __call__(self, kappa, beta):
         kappa, beta = np.asarray(kappa, dtype=float), np.asarray(beta, dtype=float)
@@ -81,7 +80,7 @@ class AreaHardening:
 
 
 @dataclass(frozen=True)
-class AreaGrowth:
+class AreaGrowth(Parameterized):
     r"""Default :math:`B(\beta) = b\,\beta(1 - \beta)` of (4.5).
 
     Parameters
@@ -90,10 +89,8 @@ class AreaGrowth:
         Rate of area growth per unit plastic closure (1/length), ``b > 0``.
     """
 
-    b: float = 20.0
-
-    def __post_init__(self):
-        object.__setattr__(self, "b", check_scalar("b", self.b, lo=0.0, lo_open=True))
+    b: float = parameter("rate of area growth per unit plastic closure", "1/length", lo=0.0,
+                         lo_open=True, default=20.0)
 
     def __call__(self, beta):
         beta = np.asarray(beta, dtype=float)
@@ -141,26 +138,25 @@ class EllipsoidCap(FrictionLaw):
     arguments is also accepted.
     """
 
-    m: float
-    A: AreaHardening = field(default_factory=AreaHardening)
-    B: AreaGrowth = field(default_factory=AreaGrowth)
-    normal_ratio: float = 1.0
+    m: float = parameter("slope of the critical-state line, tan(rho)", lo=0.0, lo_open=True)
+    A: AreaHardening = parameter("A(kappa, beta)", default=AreaHardening, nested=True)
+    B: AreaGrowth = parameter("B(beta)", default=AreaGrowth, nested=True)
+    normal_ratio: float = parameter("weight of the normal part of g", lo=0.0, lo_open=True,
+                                    default=1.0)
     state_names = ("kappa", "beta")
     capabilities = frozenset({"symbolic", "closed_form_return"})
     defined_in_tension = True
 
-    def __post_init__(self):
-        object.__setattr__(self, "m", check_scalar("m", self.m, lo=0.0, lo_open=True))
-        object.__setattr__(self, "normal_ratio", check_scalar("normal_ratio", self.normal_ratio, lo=0.0,
-                                                              lo_open=True))
-        if not isinstance(self.A, AreaHardening):
-            raise FrictionRulesError(f"A = {self.A!r} violates: must be an AreaHardening")
-        if not isinstance(self.B, AreaGrowth):
-            raise FrictionRulesError(f"B = {self.B!r} violates: must be an AreaGrowth")
-
     @property
     def associated(self) -> bool:
         return self.normal_ratio == 1.0
+
+    def declared_traits(self) -> LawTraits:
+        """An ellipsoid (convex, not a cone) with normal slip off the critical-state line; g
+        differs from f by a function of N and q only, and κ̇ = λ̇|∂g/∂T| couples the
+        tangential directions."""
+        return LawTraits(degree=None, slip_degree=None, normal_slip=True,
+                         tangentially_associated=True, tangent_coupling=True, convex=True)
 
     def initial_values(self) -> dict[str, float]:
         return {"kappa": 0.0, "beta": 0.5}
@@ -170,20 +166,6 @@ class EllipsoidCap(FrictionLaw):
             raise FrictionRulesError("kappa violates kappa >= 0 (accumulated slip)")
         if np.any((q[..., 1] <= 0) | (q[..., 1] >= 1)):
             raise FrictionRulesError("beta violates 0 < beta < 1 (fraction of real contact area)")
-
-    @property
-    def parameters(self) -> dict[str, float]:
-        return {"m": self.m, "normal_ratio": self.normal_ratio, "p": self.A.p, "h": self.A.h,
-                "kappa_h": self.A.kappa_h, "b": self.B.b}
-
-    def replace(self, **changes) -> "EllipsoidCap":
-        unknown = sorted(set(changes) - set(self.parameters))
-        if unknown:
-            raise FrictionRulesError(f"parameters {unknown} violate: the law's parameters are "
-                                     f"{sorted(self.parameters)}")
-        v = {**self.parameters, **changes}
-        return EllipsoidCap(v["m"], AreaHardening(v["p"], v["h"], v["kappa_h"]), AreaGrowth(v["b"]),
-                            v["normal_ratio"])
 
     def symbolic_form(self):
         """``(f, g)`` of (4.9) and the rates (4.5) in ``T1, T2, N, kappa, beta``."""

@@ -6,8 +6,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import check_scalar
+from ._params import parameter
 from ._records import Cone, InverseRelation
+from ._traits import LawTraits
 from .base import FrictionLaw, as_slip, safe_ratio
 
 __all__ = ["Coulomb"]
@@ -34,21 +35,18 @@ class Coulomb(FrictionLaw):
         Use the associated (dilatant) rule (1.6).
     """
 
-    mu: float
-    dilatant: bool = False
+    mu: float = parameter("friction coefficient", lo=0.0)
+    dilatant: bool = parameter("the associated (dilatant) rule (1.6)", kind=bool, default=False)
     capabilities = frozenset({"symbolic", "cone", "closed_form_return"})
-
-    def __post_init__(self):
-        object.__setattr__(self, "mu", check_scalar("mu", self.mu, lo=0.0))
-        object.__setattr__(self, "dilatant", bool(self.dilatant))
 
     @property
     def associated(self) -> bool:
         return self.dilatant
 
-    @property
-    def tangentially_associated(self) -> bool:
-        return True
+    def declared_traits(self) -> LawTraits:
+        """A cone of degree one; normal slip only with the dilatant rule (and ``mu > 0``)."""
+        return LawTraits(degree=1.0, slip_degree=0.0, normal_slip=self.dilatant and self.mu > 0,
+                         tangentially_associated=True, tangent_coupling=False, convex=True)
 
     def limit(self, T, N, q=None):
         T, N = self._inputs(T, N)

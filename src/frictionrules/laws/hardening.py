@@ -14,7 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import FrictionRulesError, check_scalar
+from ..errors import FrictionRulesError
+from ._params import Parameterized, parameter
 from ._records import Cone
 from .base import FrictionLaw, require
 
@@ -22,7 +23,7 @@ __all__ = ["SlipHardening", "HardenedLaw"]
 
 
 @dataclass(frozen=True)
-class SlipHardening:
+class SlipHardening(Parameterized):
     r"""Slip hardening :math:`s(\kappa) = 1 + h(1 - e^{-\kappa/\kappa_h})` of the normal force
     in a law's f and g.
 
@@ -36,12 +37,8 @@ class SlipHardening:
     ``SlipHardening(h, kappa_h).apply(law)`` is the hardening law :class:`HardenedLaw`.
     """
 
-    h: float
-    kappa_h: float
-
-    def __post_init__(self):
-        object.__setattr__(self, "h", check_scalar("h", self.h, lo=-1.0, lo_open=True))
-        object.__setattr__(self, "kappa_h", check_scalar("kappa_h", self.kappa_h, lo=0.0, lo_open=True))
+    h: float = parameter("relative hardening at saturation", lo=-1.0, lo_open=True)
+    kappa_h: float = parameter("hardening slip scale", "length", lo=0.0, lo_open=True)
 
     def scale(self, kappa):
         """:math:`s(\\kappa)`."""
@@ -96,10 +93,6 @@ class HardenedLaw(FrictionLaw):
     def associated(self) -> bool:
         return self.law.associated
 
-    @property
-    def tangentially_associated(self) -> bool:
-        return self.law.tangentially_associated
-
     def initial_values(self) -> dict[str, float]:
         return {"kappa": 0.0}
 
@@ -110,6 +103,13 @@ class HardenedLaw(FrictionLaw):
     @property
     def parameters(self) -> dict[str, float]:
         return {**self.law.parameters, "h": self.hardening.h, "kappa_h": self.hardening.kappa_h}
+
+    @property
+    def parameter_descriptions(self) -> dict[str, str]:
+        return self.law.parameter_descriptions
+
+    def parameter_info(self) -> dict:
+        return {**self.law.parameter_info(), **self.hardening.parameter_table()}
 
     def replace(self, **changes) -> "HardenedLaw":
         own = {k: changes.pop(k) for k in ("h", "kappa_h") if k in changes}

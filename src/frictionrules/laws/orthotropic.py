@@ -22,23 +22,28 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import check_scalar
+from ._params import parameter
 from ._records import Cone, InverseRelation
+from ._traits import LawTraits
 from .._rotation import rotate
 from .base import FrictionLaw, safe_ratio
 
 __all__ = ["EllipticOrthotropic", "Huber", "TransformedCoulomb"]
 
 
+def _coefficient(axis: str):
+    return parameter(f"friction coefficient along principal axis {axis}", lo=0.0, lo_open=True)
+
+
+#: The angle of the principal axes, a parameter of every orthotropic law.
+_ANGLE = parameter("angle of principal axis 1 from local direction 1", "rad", lo=-np.pi,
+                   hi=np.pi, default=0.0)
+
+
 class _Orthotropic(FrictionLaw):
     """Shared frame handling: parameters ``(m1, m2, angle)`` of the concrete dataclasses."""
 
     _m_names = ("mu_x", "mu_y")
-
-    def __post_init__(self):
-        for name in self._m_names:
-            object.__setattr__(self, name, check_scalar(name, getattr(self, name), lo=0.0, lo_open=True))
-        object.__setattr__(self, "angle", check_scalar("angle", self.angle, lo=-np.pi, hi=np.pi))
 
     @property
     def _m(self) -> tuple[float, float]:
@@ -81,7 +86,9 @@ class _EllipseLimit(_Orthotropic):
 
     def _rho(self, T):
         mx, my = self._m
-        return np.sqrt((T[..., 0] / mx) ** 2 + (T[..., 1] / my) ** 2)
+        # hypot: no overflow of the squares; a value past the largest float is inf (rounded)
+        with np.errstate(over="ignore"):
+            return np.hypot(T[..., 0] / mx, T[..., 1] / my)
 
     def limit(self, T, N, q=None):
         T, N = self._local(T, N)
@@ -122,14 +129,15 @@ class EllipticOrthotropic(_EllipseLimit):
         Angle of principal axis 1 from x, radians, in [-pi, pi].
     """
 
-    mu_x: float
-    mu_y: float
-    angle: float = 0.0
-    capabilities = frozenset({"symbolic", "cone", "closed_form_return"})
+    mu_x: float = _coefficient("1")
+    mu_y: float = _coefficient("2")
+    angle: float = _ANGLE
+    capabilities = frozenset({"symbolic", "cone"})
 
-    @property
-    def tangentially_associated(self) -> bool:
-        return True
+    def declared_traits(self) -> LawTraits:
+        """An elliptic cone with in-plane normality and no normal slip."""
+        return LawTraits(degree=1.0, slip_degree=0.0, normal_slip=False,
+                         tangentially_associated=True, tangent_coupling=False, convex=True)
 
     def potential(self, T, N, q=None):
         T, N = self._local(T, N)
@@ -143,11 +151,6 @@ class EllipticOrthotropic(_EllipseLimit):
     def cone(self, q=None) -> Cone:
         """The elliptic cone (1.9) with tangential normality and no normal slip."""
         return Cone(self.mu_x, self.mu_y, self.angle, 0.0)
-
-    def closed_form_return(self):
-        """The closest-point return of the compiled elliptic kernel."""
-        from ._records import ClosedFormReturn
-        return ClosedFormReturn("elliptic", (self.mu_x, self.mu_y, self.angle))
 
     def slip_direction(self, T, N, q=None):
         r"""(1.10) normalized: the factor 1/rho of the gradient cancels, so the slip is the unit
@@ -185,20 +188,27 @@ class TransformedCoulomb(_EllipseLimit):
     + \mu_y^2\sin^2\theta'}`.
     """
 
-    mu_x: float
-    mu_y: float
-    angle: float = 0.0
+    mu_x: float = _coefficient("1")
+    mu_y: float = _coefficient("2")
+    angle: float = _ANGLE
     capabilities = frozenset({"symbolic"})
+
+    def declared_traits(self) -> LawTraits:
+        """The elliptic cone of (1.9) with the slip (1.18), normal to it only when it is a
+        circle."""
+        return LawTraits(degree=1.0, slip_degree=0.0, normal_slip=False,
+                         tangentially_associated=self.mu_x == self.mu_y, tangent_coupling=False,
+                         convex=True)
 
     def potential(self, T, N, q=None):
         T, N = self._local(T, N)
         mx, my = self._m
-        return np.sqrt(T[..., 0] ** 2 / mx + T[..., 1] ** 2 / my) + 0.0 * N
+        return np.hypot(T[..., 0] / np.sqrt(mx), T[..., 1] / np.sqrt(my)) + 0.0 * N
 
     def potential_gradient(self, T, N, q=None):
         T, N = self._local(T, N)
         mx, my = self._m
-        g = np.sqrt(T[..., 0] ** 2 / mx + T[..., 1] ** 2 / my)
+        g = np.hypot(T[..., 0] / np.sqrt(mx), T[..., 1] / np.sqrt(my))
         return self._global_gradient(safe_ratio(T[..., 0] / mx, g), safe_ratio(T[..., 1] / my, g),
                                      0.0 * N)
 
@@ -232,31 +242,43 @@ class Huber(_Orthotropic):
         Angle of principal axis 1 from x, radians, in [-pi, pi].
     """
 
-    mu_1: float
-    mu_2: float
-    angle: float = 0.0
+    mu_1: float = _coefficient("1")
+    mu_2: float = _coefficient("2")
+    angle: float = _ANGLE
     _m_names = ("mu_1", "mu_2")
     capabilities = frozenset({"symbolic"})
 
-    def _mu_of_force(self, T):
+    def declared_traits(self) -> LawTraits:
+        r"""A cone with the slip along T. The polar curve :math:`r = A + B\cos 2\theta'`
+        (:math:`A = (\mu_1 + \mu_2)/2`, :math:`B = (\mu_1 - \mu_2)/2`) is convex where
+        :math:`r^2 + 2r'^2 - rr'' = A^2 + 6ABc - 3B^2c^2 + 8B^2 \ge 0` for
+        :math:`c = \cos 2\theta' \in [-1, 1]`; the minimum, at :math:`c = \pm 1`, is
+        :math:`(A - |B|)(A - 5|B|)`: convex when :math:`\max(\mu_1, \mu_2) \le 1.5\min(\mu_1, \mu_2)`."""
         m1, m2 = self._m
-        rho2 = T[..., 0] ** 2 + T[..., 1] ** 2
-        mu = safe_ratio(m1 * T[..., 0] ** 2 + m2 * T[..., 1] ** 2, rho2)
-        return np.where(rho2 > 0, mu, min(m1, m2)), rho2
+        return LawTraits(degree=1.0, slip_degree=0.0, normal_slip=False,
+                         tangentially_associated=m1 == m2, tangent_coupling=False,
+                         convex=max(m1, m2) <= 1.5 * min(m1, m2))
+
+    def _mu_of_force(self, T):
+        """μ(β') of the force's direction and |T| (from the unit direction: no overflow of the
+        squares of a huge force)."""
+        m1, m2 = self._m
+        rho = np.hypot(T[..., 0], T[..., 1])
+        c, s = safe_ratio(T[..., 0], rho), safe_ratio(T[..., 1], rho)
+        return np.where(rho > 0, m1 * c * c + m2 * s * s, min(m1, m2)), rho
 
     def limit(self, T, N, q=None):
         T, N = self._local(T, N)
-        mu, rho2 = self._mu_of_force(T)
-        return np.sqrt(rho2) - mu * N
+        mu, rho = self._mu_of_force(T)
+        return rho - mu * N
 
     def limit_gradient(self, T, N, q=None):
         T, N = self._local(T, N)
         m1, m2 = self._m
-        mu, rho2 = self._mu_of_force(T)
-        rho = np.sqrt(rho2)
-        a, b = T[..., 0], T[..., 1]
-        k = safe_ratio(2.0 * N * (m1 - m2) * a * b, rho2**2)
-        return self._global_gradient(safe_ratio(a, rho) - k * b, safe_ratio(b, rho) + k * a, -mu)
+        mu, rho = self._mu_of_force(T)
+        a, b = safe_ratio(T[..., 0], rho), safe_ratio(T[..., 1], rho)
+        k = safe_ratio(2.0 * N * (m1 - m2) * a * b, rho)
+        return self._global_gradient(a - k * b, b + k * a, -mu)
 
     def potential(self, T, N, q=None):
         T, N = self._inputs(T, N)

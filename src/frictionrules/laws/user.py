@@ -8,7 +8,7 @@ never evaluated as code.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -100,6 +100,11 @@ class UserLaw(FrictionLaw):
         one expression per internal variable; it may use ``dg_dT1, dg_dT2, dg_dN`` for the
         gradient of g, and the string ``"slip"`` stands for the accumulated-slip rate
         :math:`|\partial g/\partial T|`.
+    descriptions : dict, optional
+        What each parameter means, in the user's words, e.g. ``{"mu_x": "friction along the
+        grooves"}``: exported code and READMEs quote it (a parameter without one is a "user
+        parameter"; its meaning is never guessed from its name). Not part of the law's identity
+        (equality, hashing).
 
     Gradients and Hessians are derived symbolically; at a kink (the apex of a cone) the
     minimal-norm subgradient is used. The inverse relation is solved numerically.
@@ -120,8 +125,10 @@ class UserLaw(FrictionLaw):
     params: tuple
     state: tuple
     rates: tuple
+    descriptions: tuple = field(default=(), compare=False)
 
-    def __init__(self, limit, potential=None, params=None, state=None, rates=None):
+    def __init__(self, limit, potential=None, params=None, state=None, rates=None, *,
+                 descriptions=None):
         from .._optional import require
         sympy = require("sympy", purpose="UserLaw")
 
@@ -156,6 +163,13 @@ class UserLaw(FrictionLaw):
         object.__setattr__(self, "params", params)
         object.__setattr__(self, "state", state)
         object.__setattr__(self, "rates", tuple(rate_exprs))
+        texts = dict(_items("descriptions", descriptions))
+        unknown = sorted(set(texts) - {k for k, _ in params})
+        if unknown or not all(isinstance(t, str) for t in texts.values()):
+            raise FrictionRulesError(f"descriptions = {texts!r} violates: texts for parameters "
+                                     f"of the law ({[k for k, _ in params]}); unknown {unknown}")
+        object.__setattr__(self, "descriptions",
+                           tuple((k, " ".join(texts[k].split())) for k, _ in params if k in texts))
 
     # ---- protocol ----------------------------------------------------------------------------
     @property
@@ -174,13 +188,27 @@ class UserLaw(FrictionLaw):
     def parameters(self) -> dict[str, float]:
         return dict(self.params)
 
+    @property
+    def parameter_descriptions(self) -> dict[str, str]:
+        """Every parameter's description: the user's text, or ``"user parameter"``."""
+        own = dict(self.descriptions)
+        return {k: own.get(k, "user parameter") for k, _ in self.params}
+
+    def parameter_info(self) -> dict:
+        """A :class:`~frictionrules.laws.Parameter` per user parameter: its meaning is the
+        user's description (never guessed from the name), its unit that of the law."""
+        from ._params import Parameter
+        return {k: Parameter(k, text, "as in the law")
+                for k, text in self.parameter_descriptions.items()}
+
     def replace(self, **changes) -> "UserLaw":
         unknown = sorted(set(changes) - set(self.parameters))
         if unknown:
             raise FrictionRulesError(f"parameters {unknown} violate: the law's parameters are "
                                      f"{sorted(self.parameters)}")
         return UserLaw(self.limit_expr, self.potential_expr, {**self.parameters, **changes},
-                       dict(self.state), dict(zip(self.state_names, self._rate_inputs())))
+                       dict(self.state), dict(zip(self.state_names, self._rate_inputs())),
+                       descriptions=dict(self.descriptions))
 
     def _rate_inputs(self):
         import sympy
@@ -189,17 +217,6 @@ class UserLaw(FrictionLaw):
     @property
     def associated(self) -> bool:
         return self.potential_expr is None
-
-    @property
-    def tangentially_associated(self) -> bool:
-        """True when f - g depends on N (and the state) only: in-plane normality."""
-        import sympy
-
-        from .symbols import T1, T2
-        if self.associated:
-            return True
-        diff = self.limit_expr - self.potential_expr
-        return all(sympy.simplify(sympy.diff(diff, s)) == 0 for s in (T1, T2))
 
     def symbolic_form(self):
         import sympy
@@ -223,32 +240,69 @@ class UserLaw(FrictionLaw):
         return cone_of(self)
 
     # ---- as data (TOML files, the CLI) ------------------------------------------------------
-    _KEYS = ("limit", "potential", "params", "state", "rates")
+    @classmethod
+    def parameter_table(cls) -> dict:
+        """What a user law is made of, as the law table lists it: the expressions and the
+        tables of parameters, internal variables and their rates."""
+        from ._params import Parameter
+        return {"limit": Parameter("limit", "limit condition f (expression)", "", kind=str,
+                                   required=True),
+                "potential": Parameter("potential", "sliding potential g (expression; default f)",
+                                       "", kind=str, default=None),
+                "params": Parameter("params", "parameters of the expressions and their values",
+                                    "", kind=dict, default=None),
+                "state": Parameter("state", "internal variables and their virgin values", "",
+                                   kind=dict, default=None),
+                "rates": Parameter("rates", "evolution of each internal variable per unit "
+                                   "multiplier (4.5): an expression or \"slip\"", "", kind=dict,
+                                   default=None)}
+
+    @classmethod
+    def from_parameters(cls, **values) -> "UserLaw":
+        return cls.from_mapping(values, name="UserLaw")
+
+    def arguments(self) -> dict:
+        return self.to_mapping()
 
     @classmethod
     def from_mapping(cls, table, *, name: str = "law") -> "UserLaw":
         """A user law from a mapping (e.g. a TOML table): ``limit`` (required), ``potential``,
-        ``params``, ``state`` and ``rates`` (tables), as the constructor takes them.
+        ``params``, ``state`` and ``rates`` (tables), as the constructor takes them. A
+        parameter may be a table ``{ value = ..., description = "..." }``: the description is
+        the parameter's meaning in exported code and READMEs.
 
         .. code-block:: toml
 
             [law]
             limit = "sqrt(T1**2 + T2**2) - mu*N"
             potential = "sqrt(T1**2 + T2**2) - psi*N"
-            params = { mu = 0.5, psi = 0.1 }
+            params = { mu = 0.5, psi = { value = 0.1, description = "dilatancy coefficient" } }
         """
+        keys = list(cls.parameter_table())
         if not hasattr(table, "keys"):
             raise FrictionRulesError(f"{name} = {table!r} violates: a table with the keys "
-                                     f"{', '.join(cls._KEYS)}")
-        unknown = sorted(set(table) - set(cls._KEYS))
+                                     f"{', '.join(keys)}")
+        unknown = sorted(set(table) - set(keys))
         if unknown:
             raise FrictionRulesError(f"{name} has the unknown keys {unknown}; constraint: keys in "
-                                     f"{list(cls._KEYS)}")
+                                     f"{keys}")
         if "limit" not in table:
             raise FrictionRulesError(f"{name} has no 'limit'; constraint: the limit condition f "
                                      "is required")
-        return cls(table["limit"], table.get("potential"), table.get("params"), table.get("state"),
-                   table.get("rates"))
+        values, texts = {}, {}
+        for key, value in _items(f"{name}: params", table.get("params")):
+            if hasattr(value, "keys"):
+                extra = sorted(set(value) - {"value", "description"})
+                if "value" not in value or extra:
+                    raise FrictionRulesError(
+                        f"{name}: params.{key} = {dict(value)!r} violates: a number, or a table "
+                        "with 'value' and an optional 'description'")
+                if "description" in value:
+                    texts[key] = value["description"]
+                value = value["value"]
+            values[key] = value
+        return cls(table["limit"], table.get("potential"), values, table.get("state"),
+                   table.get("rates"), descriptions=texts)
 
     def to_mapping(self) -> dict:
         """The inverse of :meth:`from_mapping` (expressions as strings)."""
@@ -256,7 +310,9 @@ class UserLaw(FrictionLaw):
         if self.potential_expr is not None:
             out["potential"] = str(self.potential_expr)
         if self.params:
-            out["params"] = dict(self.params)
+            own = dict(self.descriptions)
+            out["params"] = {k: {"value": v, "description": own[k]} if k in own else v
+                             for k, v in self.params}
         if self.state:
             out["state"] = dict(self.state)
             out["rates"] = {k: str(r) for k, r in zip(self.state_names, self._rate_inputs())}

@@ -23,8 +23,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import FrictionRulesError, check_finite, check_scalar
+from ..errors import FrictionRulesError, check_finite
+from ._params import parameter
 from ._records import InverseRelation
+from ._traits import LawTraits
 from .base import FrictionLaw, safe_ratio
 
 __all__ = ["WedgeAsperity"]
@@ -61,18 +63,21 @@ class WedgeAsperity(FrictionLaw):
         Local sliding rule.
     """
 
-    alpha: float
-    mu: float
-    local: str = "non-associated"
+    alpha: float = parameter("inclination of the plane", "rad", lo=0.0, hi=np.pi, lo_open=True,
+                             hi_open=True)
+    mu: float = parameter("local friction coefficient", lo=0.0)
+    local: str = parameter("local sliding rule", kind=str, choices=_LOCALS,
+                           default="non-associated")
     normal_name = "Q"
     capabilities = frozenset({"symbolic"})
 
-    def __post_init__(self):
-        object.__setattr__(self, "alpha", check_scalar("alpha", self.alpha, lo=0.0, hi=np.pi,
-                                                       lo_open=True, hi_open=True))
-        object.__setattr__(self, "mu", check_scalar("mu", self.mu, lo=0.0))
-        if self.local not in _LOCALS:
-            raise FrictionRulesError(f"local = {self.local!r} violates local in {_LOCALS}")
+    def declared_traits(self) -> LawTraits:
+        """Local Coulomb through the linear map (2.1): a convex cone of degree one in the loads,
+        whose slip lifts the block (2.8); in-plane normality with the associated local rule
+        (or ``mu = 0``) only, (2.4) against (2.5)."""
+        return LawTraits(degree=1.0, slip_degree=0.0, normal_slip=True,
+                         tangentially_associated=self.associated or self.mu == 0.0,
+                         tangent_coupling=False, convex=True)
 
     # ---- geometry --------------------------------------------------------------------------
     @property

@@ -27,6 +27,7 @@ from .asperities import (
     fig7_associated,
     heightmap_polar,
     limit_curve,
+    surface_limit_curve,
 )
 # configuration softening, Figs. 8-9
 from .configuration import (
@@ -38,7 +39,7 @@ from .configuration import (
     sphere_limit_evolution,
 )
 # elastic-plastic contact, Fig. 10
-from .contact import cap_hardening, cap_shear_curves, cap_surface
+from .contact import cap_hardening, cap_shear_curves, cap_surface, drive_curves
 
 __all__ = [
     # laws, Figs. 1 and 3
@@ -56,6 +57,7 @@ __all__ = [
     "fig6b_potential_surface",
     "fig7_associated",
     "heightmap_polar",
+    "surface_limit_curve",
     # configuration softening, Figs. 8-9
     "limit_evolution",
     "path_force",
@@ -67,4 +69,5 @@ __all__ = [
     "cap_surface",
     "cap_hardening",
     "cap_shear_curves",
+    "drive_curves",
 ]

@@ -114,16 +114,18 @@ def hits(bbox, points, pad: float = 0.0) -> bool:
     return bool(np.any((p[:, 0] > x0) & (p[:, 0] < x1) & (p[:, 1] > y0) & (p[:, 1] < y1)))
 
 
-def place_labels(ax, labels, distances=(5.0, 10.0, 16.0, 24.0), pad: float = 1.5):
+def place_labels(ax, labels, distances=(5.0, 10.0, 16.0, 24.0), pad: float = 1.5,
+                 drop: bool = False):
     """Move each annotation of ``labels`` (``textcoords="offset points"``) to the first
     position around its anchor where its box touches no data, no other label and stays inside
-    the axes; it stays where it was if there is none."""
+    the axes; where there is none it stays where it was, or with ``drop`` it is removed (only
+    readable labels remain). Returns the labels kept."""
     fig = ax.figure
     fig.draw_without_rendering()                       # final limits, aspect and layout
     renderer = fig.canvas.get_renderer()
     points = data_points(ax)
     inside = ax.get_window_extent(renderer)
-    taken = []
+    taken, kept = [], []
     for ann in labels:
         start = (tuple(ann.xyann), ann.get_ha(), ann.get_va())
         for r in distances:
@@ -140,11 +142,15 @@ def place_labels(ax, labels, distances=(5.0, 10.0, 16.0, 24.0), pad: float = 1.5
                 continue
             break
         else:
+            if drop:
+                ann.remove()
+                continue
             ann.xyann, ha, va = start
             ann.set_ha(ha)
             ann.set_va(va)
         taken.append(ann.get_window_extent(renderer))
-    return labels
+        kept.append(ann)
+    return kept
 
 
 def label(ax, text, xy, color="k", fontsize=8, **kw):

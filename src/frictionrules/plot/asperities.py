@@ -41,22 +41,20 @@ def _pieces(curve, box):
 
 
 def limit_curve(law, Q: float = 1.0, ax=None, box: float = 4.0, potentials: bool = True,
-                corners: bool = True, style: str = "-", label_prefix: str = "", n: int = 1440):
+                corners: bool = True, style: str = "-", label_prefix: str = "", n: int = 1440,
+                lw: float = 1.8, alpha: float = 1.0):
     """Limit curve of a facet law at fixed Q, coloured by mechanism, with the concave corners
     and (optionally) the potential of each mechanism through a point of its piece ((2.14),
-    (2.15): ellipses for one facet, straight lines for two)."""
+    (2.15): ellipses for one facet, straight lines for two), drawn with the line ``style``,
+    width ``lw`` and opacity ``alpha``."""
     ax = _axes(ax)
     curve = law.limit_curve(Q, n=n)
     mechs = sorted({lab for lab, _ in _pieces(curve, box)})
     color = {m: _COLORS[i % len(_COLORS)] for i, m in enumerate(mechs)}
     seen, drawn = set(), set()
     for lab, idx in _pieces(curve, box):
-        if isinstance(law, TwoFlankAsperity):
-            name = {"0": "flank 1", "1": "flank 2", "0+1": "both flanks"}[lab]
-        else:
-            name = f"facet{'s' if '+' in lab else ''} {lab}"
-        ax.plot(*curve.T[idx].T, style, color=color[lab], lw=1.8,
-                label=None if lab in seen else label_prefix + name)
+        ax.plot(*curve.T[idx].T, style, color=color[lab], lw=lw, alpha=alpha,
+                label=None if lab in seen else label_prefix + law.mechanism_name(lab))
         mid = idx[len(idx) // 2]
         # one potential per mechanism (the two-facet one per sliding sense: g = +-Ty (2.15))
         key = (lab, tuple(np.sign(np.round(curve.velocity[mid], 9))) if "+" in lab else ())
@@ -73,10 +71,62 @@ def limit_curve(law, Q: float = 1.0, ax=None, box: float = 4.0, potentials: bool
     ax.set_xlim(-box, box)
     ax.set_ylim(-box, box)
     ax.set_aspect("equal")
-    ax.set_xlabel("$T_x/Q$" if Q == 1 else "$T_x$")
-    ax.set_ylabel("$T_y/Q$" if Q == 1 else "$T_y$")
+    ax.set_xlabel("tangential force " + ("$T_x/Q$" if Q == 1 else "$T_x$"))
+    ax.set_ylabel("tangential force " + ("$T_y/Q$" if Q == 1 else "$T_y$"))
     ax.grid(alpha=0.3)
     place_labels(ax, ax.texts)
+    return ax
+
+
+#: Mechanism families of :func:`surface_limit_curve`: number of sliding facets -> (name, colour).
+_FAMILIES = {1: ("one facet slides", "tab:blue"),
+             2: ("two facets slide, along their common edge", "tab:red")}
+
+
+def surface_limit_curve(curve, ax=None, box: float | None = None, labels: int = 8):
+    """Limit curve of a facet set with many facets (a measured surface), at the ``Q`` of
+    ``curve`` (a :class:`~frictionrules.LimitCurve`, e.g. ``law.limit_curve(Q).merged()``).
+
+    Drawn for hundreds of facets: the curve is coloured by mechanism family (one facet
+    sliding, or two along their common edge; a legend of two entries, not one per facet), the
+    concave corners of ``curve`` are marked and the ``labels`` most re-entrant ones carry their
+    interior angle where the label fits clear of the curve and of the other labels (every
+    corner is in the corners table of ``frictionrules asperity --out``). No potentials: one
+    per facet would cross the frame. Only the part of the curve with ``|Tx|, |Ty| <= box`` is
+    drawn (default: all of it), in limits that fit it and the origin. Returns the Axes.
+    """
+    ax = _axes(ax, size=(6.0, 6.0))
+    T, Q = curve.T, curve.Q
+    fin = np.all(np.isfinite(T), axis=-1)
+    if box is None:
+        box = 1.1 * float(np.abs(T[fin]).max()) if fin.any() else 1.0
+    count = np.sum(curve.facets >= 0, axis=-1)
+    shown = fin & (np.max(np.abs(np.where(fin[:, None], T, 0.0)), axis=-1) <= box)
+    for k, (name, colour) in _FAMILIES.items():
+        mask = shown & (count == k)
+        mask |= np.roll(mask, 1) & shown    # and the segment to the next family: no gap
+        xy = np.where(mask[:, None], T, np.nan)
+        ax.plot(*np.concatenate((xy, xy[:1])).T, "-", color=colour, lw=2.0, label=name)
+    corners = [c for c in curve.concave_corners if np.max(np.abs(c.T)) <= box]
+    if corners:
+        xy = np.array([c.T for c in corners])
+        ax.plot(*xy.T, "ko", ms=4.5, mfc="none", label="concave corners (interior angle: the "
+                "most re-entrant,\nwhere readable; every corner in the corners table)")
+    ax.plot(0, 0, "k+", label="origin $T = 0$")
+    seen = np.vstack((T[shown], np.zeros((1, 2))))      # the curve and the origin, with margins
+    lo, hi = seen.min(axis=0), seen.max(axis=0)
+    pad = 0.08 * max(float(np.max(hi - lo)), 1e-300)
+    ax.set_xlim(lo[0] - pad, hi[0] + pad)
+    ax.set_ylim(lo[1] - pad, hi[1] + pad)
+    ax.set_aspect("equal")
+    ax.set_xlabel("tangential force " + ("$T_x/Q$" if Q == 1 else "$T_x$"))
+    ax.set_ylabel("tangential force " + ("$T_y/Q$" if Q == 1 else "$T_y$"))
+    ax.grid(alpha=0.3)
+    legend_beside(ax, "below", ncol=1)
+    if corners:                             # last: the layout is final
+        worst = sorted(corners, key=lambda c: -c.interior)[:labels]
+        place_labels(ax, [label(ax, f"{np.rad2deg(c.interior):.1f}°", c.T) for c in worst],
+                     drop=True)
     return ax
 
 
@@ -191,6 +241,7 @@ def fig6a_limit_surface(ax=None, q_max: float = 1.0, box: float = 4.0):
     ax.set_ylabel("$T_y$")
     ax.set_zlabel("$Q$")
     ax.set_box_aspect((1.0, 1.0, 0.5))
+    ax.set_zticks([0.0, 0.5 * q_max, q_max])     # the Q axis is short seen from above
     ax.view_init(elev=60, azim=-105)
     ax.set_title(f"Fig. 6a  limit surface $f = 0$ in $(T_x, T_y, Q)$: a cone over the limit curve "
                  f"of Fig. 5\n$\\alpha_1 = \\pi/3$, $\\alpha_2 = 5\\pi/6$, $\\mu$ = 1, "
@@ -238,15 +289,18 @@ def fig7_associated(ax=None):
     """Fig. 7: limit curves for the associated local rule (1.6) (solid, convex and smooth) and
     the non-associated one (broken, concave corners), alpha1 = pi/3, alpha2 = 5 pi/6, mu = 0.5."""
     ax = _axes(ax)
-    for local, style in (("associated", "-"), ("non-associated", "--")):
+    # the associated curve wide and pale under the narrow dashed one: where they coincide
+    # (one flank sliding) both stay visible
+    for local, style, lw, alpha in (("associated", "-", 4.0, 0.4),
+                                    ("non-associated", "--", 1.5, 1.0)):
         law = TwoFlankAsperity(**FIG7, local=local)
         limit_curve(law, ax=ax, box=6.0, potentials=False, corners=local == "non-associated",
-                    style=style, label_prefix=f"{local}: ")
+                    style=style, label_prefix=f"{local}: ", lw=lw, alpha=alpha)
     ax.set_xlim(-2.0, 4.0)                 # the corners and the both-flank lines, enlarged
     ax.set_ylim(-2.5, 2.5)
     ax.plot([], [], "ko", mfc="none", label="concave corners, non-associated\n(interior angle)")
     ax.plot([], [], "k+", label="origin $T = 0$")
-    ax.set_title("Fig. 7  limit curves $f = 0$: associated local rule (1.6) (solid) and\n"
+    ax.set_title("Fig. 7  limit curves $f = 0$: associated local rule (1.6) (solid, wide) and\n"
                  "non-associated (1.5) (broken), $\\alpha_1 = \\pi/3$, $\\alpha_2 = 5\\pi/6$, "
                  "$\\mu$ = 0.5, $Q$ = 1", fontsize=10)
     place_labels(ax, ax.texts)

@@ -17,29 +17,51 @@ def _axes(ax, polar=False, size=(5.0, 4.0)):
     return ax
 
 
-def plot_response(result, axes=None, label=None, linestyle="-"):
-    """Stress ratio σ1/σ3 (left) and volumetric strain (right, compression positive) against
-    the axial strain of a :class:`TriaxialResult`; the peak is marked. Returns the two Axes."""
+def plot_response(result, axes=None, label=None, linestyle="-", title=None):
+    r"""Stress ratio σ1/σ3 (left) and volumetric strain ε_v (right, compression positive)
+    against the axial strain ε_a of a :class:`TriaxialResult`, both strains as fractions (as
+    the result and the command line give them); the peak is marked with a circle, which the
+    legend of the left Axes names. Returns the two Axes.
+
+    ``title`` goes over the left Axes; by default it names the test and, for a single run
+    (``label`` None), its peak and friction angle. Several runs on the same Axes: pass
+    ``label`` for each (the legend lists them).
+    """
     if axes is None:
         import matplotlib.pyplot as plt
         _, axes = plt.subplots(1, 2, figsize=(9, 3.6))
     a, b = axes
     ok = result.converged
-    x = 100 * result.axial_strain[ok]
+    x = result.axial_strain[ok]
     (line,) = a.plot(x, result.stress_ratio[ok], label=label, linestyle=linestyle)
     if result.failed:
         k = int(np.argmax(np.where(ok, result.stress_ratio, -np.inf)))
-        a.plot(100 * result.axial_strain[k], result.stress_ratio[k], "o", color=line.get_color(),
-               ms=4)
-    a.set_xlabel("axial strain (%)")
-    a.set_ylabel(r"$\sigma_1/\sigma_3$")
-    b.plot(x, 100 * result.volumetric_strain[ok], color=line.get_color(), label=label,
+        named = any(h.get_label() == _PEAK for h in a.lines)
+        a.plot(result.axial_strain[k], result.stress_ratio[k], "o", color=line.get_color(), ms=4,
+               label="_" if named else _PEAK)
+    a.set_xlabel(r"axial strain $\varepsilon_a$ (compression > 0)")
+    a.set_ylabel(r"stress ratio $\sigma_1/\sigma_3$")
+    b.plot(x, result.volumetric_strain[ok], color=line.get_color(), label=label,
            linestyle=linestyle)
-    b.set_xlabel("axial strain (%)")
-    b.set_ylabel("volumetric strain (%, compression > 0)")
+    b.set_xlabel(r"axial strain $\varepsilon_a$ (compression > 0)")
+    b.set_ylabel(r"volumetric strain $\varepsilon_v$ (compression > 0)")
     for ax in axes:
         ax.locator_params(axis="x", nbins=5)
+        ax.ticklabel_format(style="sci", scilimits=(-2, 3), useMathText=True)  # ×10⁻⁴ at the end
+        ax.grid(alpha=0.3)
+    if title is None:
+        title = f"{result.kind.replace('_', ' ')} test"
+        if label is None:
+            title += (rf": peak $\sigma_1/\sigma_3$ = {result.peak_ratio:.4g}, friction angle "
+                      f"{result.peak_friction_angle:.3g}°" if result.failed else ": no failure")
+    a.set_title(title, fontsize=9)
+    if any(not h.get_label().startswith("_") for h in a.lines):
+        a.legend(fontsize=7)
     return axes
+
+
+#: Legend entry of the peak marker.
+_PEAK = r"peak $\sigma_1/\sigma_3$"
 
 
 def _segments(snapshot, state, plane):

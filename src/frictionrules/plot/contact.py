@@ -1,4 +1,4 @@
-"""Fig. 10 of §4: the ellipsoidal cap in (T1, T2, N) (a), its hardening function A(β, κ) (b)
+"""Fig. 10 of §4: the ellipsoidal cap in (T1, T2, N) (a), its hardening function A(κ, β) (b)
 and the tangential force–displacement curves at fixed N (c), computed with the parameters
 :data:`frictionrules.contact.summary.FIG10`."""
 
@@ -8,7 +8,7 @@ import numpy as np
 
 from ._layout import label, legend_beside, place_labels
 
-__all__ = ["cap_surface", "cap_hardening", "cap_shear_curves"]
+__all__ = ["cap_surface", "cap_hardening", "cap_shear_curves", "drive_curves"]
 
 _COLOURS = {"A": "C0", "B": "C3"}
 
@@ -50,8 +50,8 @@ def cap_surface(ax=None):
     ax.plot_surface(A0 * (1 - np.cos(phi)), rho * np.sin(omega), rho * np.cos(omega), color="0.6",
                     alpha=0.25, linewidth=0.2, edgecolor="0.5", rstride=3, cstride=3)
 
-    def meridian(A, **kw):
-        p = np.linspace(0.0, np.pi, 200)
+    def meridian(A, **kw):          # the part inside the box N <= n_max (3-D lines are not clipped)
+        p = np.linspace(0.0, np.arccos(max(1.0 - n_max / A, -1.0)), 200)
         ax.plot(A * (1 - np.cos(p)), 0.0 * p, m * A * np.sin(p), **kw)
 
     meridian(A0, color="k", lw=1.6, label=f"initial surface $A = A_0$ = {A0:g} and its meridian $T_2 = 0$")
@@ -92,7 +92,7 @@ def cap_surface(ax=None):
     ax.set_zlabel("$T_1$")
     ax.view_init(elev=18, azim=-62)
     ax.set_title("Fig. 10a  yield surface (4.9) in $(T_1, T_2, N)$ and the tests of Fig. 10c\n"
-                 + FIG10.describe("\n"), fontsize=9)
+                 + FIG10.describe("\n", math=True), fontsize=9)
     legend_beside(ax, "below", ncol=2)
     return ax
 
@@ -148,8 +148,39 @@ def cap_shear_curves(ax=None):
     ax.set_xlabel(r"tangential displacement $\delta_{t1}$")
     ax.set_ylabel(r"tangential force $T_1$")
     ax.set_title("Fig. 10c  tangential force–displacement curves at fixed $N$\n"
-                 + FIG10.describe("\n"), fontsize=9)
+                 + FIG10.describe("\n", math=True), fontsize=9)
     ax.grid(alpha=0.3)
     place_labels(ax, names)
     legend_beside(ax, "right")
     return ax
+
+
+def drive_curves(result, title: str = "", axes=None):
+    """The force–displacement curves of a driven contact (:func:`frictionrules.drive`), one
+    panel per direction: ``T1`` against ``δt1``, ``T2`` against ``δt2`` and ``N`` against
+    ``δn`` (compression and opening positive, ``docs/conventions.md``), under ``title`` (each
+    of its lines wrapped at 120 characters).
+
+    ``axes`` are three Axes to draw on (a new figure when omitted); returns them.
+    """
+    import textwrap
+
+    from matplotlib.ticker import MaxNLocator
+    if axes is None:
+        import matplotlib.pyplot as plt
+        _, axes = plt.subplots(1, 3, figsize=(11.0, 3.8))
+    panels = ((0, r"$\delta_{t1}$", r"$T_1$"), (1, r"$\delta_{t2}$", r"$T_2$"),
+              (2, r"$\delta_n$ (opening > 0)", r"$N$ (compression > 0)"))
+    for ax, (k, x, y) in zip(axes, panels):
+        ax.plot(result.displacement[:, k], result.force[:, k], color="C0")
+        ax.plot(result.displacement[-1, k], result.force[-1, k], "o", color="C0", ms=4)
+        ax.set_xlabel(f"displacement {x}")
+        ax.set_ylabel(f"force {y}")
+        ax.xaxis.set_major_locator(MaxNLocator(4, steps=[1, 2, 5, 10]))
+        ax.grid(alpha=0.3)
+    fig = axes[0].figure
+    if title:
+        fig.suptitle("\n".join(textwrap.fill(line, 120) for line in title.splitlines()),
+                     fontsize=9)
+    fig.tight_layout()
+    return axes
