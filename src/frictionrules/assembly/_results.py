@@ -180,6 +180,10 @@ class TriaxialResult:
     engine : DemState or None
         DEM: the engine's state at the end (positions, velocities, spins, cell, contacts'
         histories).
+    positions : (k, n, d) or None
+        DEM: the grains' centres at each record (never wrapped into the cell).
+    cells : (k, d, d) or None
+        DEM: the cell at each record (columns: the cell vectors).
     """
 
     kind: str
@@ -206,6 +210,8 @@ class TriaxialResult:
     unbalanced_force: np.ndarray | None = None
     energy: EnergyTerms | None = None
     engine: object = None
+    positions: np.ndarray | None = None
+    cells: np.ndarray | None = None
 
     def __repr__(self) -> str:
         return (f"TriaxialResult(kind={self.kind!r}, increments={len(self.converged) - 1}, "

@@ -12,6 +12,7 @@ from __future__ import annotations
 import dataclasses
 import math
 
+import numba
 import numpy as np
 
 from ...contact import ContactModel, ContactState, workspace
@@ -21,10 +22,14 @@ from ._engine import CHUNKS, Outcome, advance, lists_of, new_pairs, rebuild, tim
 from ._passes import G_SIZE, P_SIZE
 from ._state import Cell, DemState, Grains, Laws, Params, new_meters
 
-__all__ = ["Dynamics", "SKIN", "MAX_OVERLAP"]
+__all__ = ["Dynamics", "SKIN", "MAX_OVERLAP", "PARALLEL_PAIRS"]
 
 #: Skin of the neighbour list, in mean radii.
 SKIN = 0.1
+#: Pairs below which a run keeps to one thread: a parallel pass costs a few microseconds of
+#: synchronisation per step on an idle machine, and far more where other processes hold the
+#: cores (a thread descheduled at the barrier stalls the others).
+PARALLEL_PAIRS = 16384
 #: Largest overlap accepted, as a fraction of the smaller radius: beyond it the motion is
 #: unstable (or the contacts far too soft for the loading).
 MAX_OVERLAP = 0.5
@@ -183,6 +188,15 @@ class Dynamics:
         laws, ws = self.laws(frictionless)
         params = self.params(frictionless)
         scratch, parts = self._scratch(state.pairs.state.shape[1])
+        done = 0
+        threads = numba.get_num_threads()
+        numba.set_num_threads(1 if len(state.pairs.i) < PARALLEL_PAIRS else threads)
+        try:
+            return self._run(state, control, stop_time, max_steps, laws, ws, params, scratch, parts)
+        finally:
+            numba.set_num_threads(threads)
+
+    def _run(self, state, control, stop_time, max_steps, laws, ws, params, scratch, parts):
         done = 0
         while done < max_steps:
             if self.lists is None or self.lists[0] is not state.pairs:

@@ -41,7 +41,7 @@ from numba import njit
 
 from ...contact import contact_update
 from ...contact.layout import LAW_KN, LAW_KT, RES_DISSIPATION, RES_FORCE, RES_SLIP
-from ._state import OPEN, PLASTIC
+from ._state import ELASTIC, OPEN, PLASTIC
 
 __all__ = ["contact_range", "grain_range", "P_VIRIAL", "P_DISSIPATION", "P_FORCE", "P_CLOSED",
            "P_SLIDING", "P_OVERLAP", "P_STIFF", "P_FAILED", "P_SIZE", "G_FORCE", "G_KINETIC",
@@ -96,6 +96,24 @@ def _carry(u1, u2, t10, t11, t12, t20, t21, t22, m0, m1, m2, k,
     wx, wy, wz = ny * vz - nz * vy, nz * vx - nx * vz, nx * vy - ny * vx
     vx, vy, vz = vx * ct + wx * st, vy * ct + wy * st, vz * ct + wz * st
     return vx * t1x + vy * t1y + vz * t1z, vx * t2x + vy * t2y + vz * t2z
+
+
+@njit(inline="always", error_model="numpy")
+def _normal_only(kn, s, dun, s1, res, width):
+    """A frictionless contact: the normal elastic response alone, ``N = -kn e_n`` while
+    ``e_n = e_n + Δδn < 0``, no tangential force and no tangential history (the update of
+    :func:`frictionrules.contact.contact_update` with μ = 0, without a return at the cone's
+    axis). Returns the status."""
+    for a in range(width):
+        s1[a] = s[a]
+    en = s[2] + dun
+    s1[2] = en
+    res[RES_FORCE] = 0.0
+    res[RES_FORCE + 1] = 0.0
+    res[RES_FORCE + 2] = -kn * en if en < 0.0 else 0.0
+    res[RES_DISSIPATION] = 0.0
+    res[RES_SLIP] = 0.0
+    return ELASTIC if en < 0.0 else OPEN
 
 
 @njit(error_model="numpy", _nrt=False, cache=True)
@@ -180,9 +198,10 @@ def contact_range(lo, hi, fn, row, virgin, ws, lists, grains, cell, pairs, param
             du[0] = dt * (ux * t1x + uy * t1y + uz * t1z)
             du[1] = dt * (ux * t2x + uy * t2y + uz * t2z)
             du[2] = gap - GAP[c]
-            if frictionless:
-                du[0] = du[1] = 0.0
-        status, failed = contact_update(fn, row, s, du, S[c], res, ws, MAX_DEPTH, False, tan)
+        if frictionless:
+            status, failed = _normal_only(kn, s, du[2], S[c], res, W), False
+        else:
+            status, failed = contact_update(fn, row, s, du, S[c], res, ws, MAX_DEPTH, False, tan)
         if failed and (bad < 0 or c < bad):
             bad = c
         T1f, T2f, Nf = res[RES_FORCE], res[RES_FORCE + 1], res[RES_FORCE + 2]

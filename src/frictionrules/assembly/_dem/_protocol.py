@@ -213,7 +213,9 @@ def collect(dyn, kind, records, axial, ended, failure_slope, window, state) -> T
                           time=field["time"],
                           coordination_without_rattlers=field["coordination_without_rattlers"],
                           sliding_fraction=field["sliding_fraction"],
-                          unbalanced_force=field["unbalanced_force"], energy=energy, engine=state)
+                          unbalanced_force=field["unbalanced_force"], energy=energy, engine=state,
+                          positions=np.array([r.positions for r in records]),
+                          cells=np.array([r.cell for r in records]))
 
 
 def run_test(assembly, kind: str, spec_of, options: dict, progress=None, max_time=None,
