@@ -2,7 +2,7 @@
 YADE on the same samples.
 
 One command: ``python benchmarks/assembly_yade.py [--quick] [--seeds 1,2,3] [--mu 0.3,0.5]
-[--laws coulomb,user,orthotropic,dilatant] [--rerun-yade] [--threads 1]``.
+[--laws coulomb,user,orthotropic,dilatant] [--rerun-yade] [--threads 1] [--figure FILE]``.
 
 * Samples: 400 spheres, radii 1 ± 20 %, made by YADE's own generator (``makeCloud``, periodic,
   a loose cloud) with the given seeds; both codes start from the same positions and radii.
@@ -192,15 +192,18 @@ def times_table(results, notes):
         rows.append([seed, mu,
                      _f(o.wall, 1) if o else "–", _f(o.cpu, 1) if o else "–",
                      f"{o.steps} × {o.dt:.3g}" if o else "–",
+                     _f(1e6 * o.cpu / o.steps, 0) if o and o.steps > 0 else "–",
                      _f(y.wall, 1), _f(y.cpu, 1),
                      f"{y.info['consolidation_steps']} + {y.info['shear_steps']} × {y.dt:.3g}",
+                     _f(1e6 * y.info["cpu_inside"] / y.steps, 0),
                      f"{y.info['loadavg']:.1f}" + (" (kept)" if v["reused"] else ""),
                      _f(rw), _f(rc)])
-    rows.append(["**median**", "", "", "", "", "", "", "", "", _f(float(np.median(ratios_wall))),
+    rows.append(["**median**", "", "", "", "", "", "", "", "", "", "", _f(float(np.median(ratios_wall))),
                  _f(float(np.median(ratios_cpu)))])
     write_table("assembly_yade_times", "Cost per run (preparation + shear): the DEM engine beside YADE -j1",
-                ["seed", "μ", "ours: wall s", "ours: CPU s", "ours: steps × dt",
+                ["seed", "μ", "ours: wall s", "ours: CPU s", "ours: steps × dt", "ours: CPU µs/step",
                  "YADE: wall s", "YADE: CPU s", "YADE: steps (consolidation + shear) × dt",
+                 "YADE: CPU µs/step (inside)",
                  "load during YADE", "wall ratio ours/YADE (goal ≤ 0.5)", "CPU ratio ours/YADE"],
                 rows, notes)
 
@@ -221,6 +224,40 @@ def laws_table(results, notes):
                  "CPU s", "reached %"], rows, notes)
 
 
+def figure(results, path: str) -> None:
+    """The mobilized angle, the volumetric strain and Z against the axial strain: ours solid,
+    YADE dashed, a colour per μ."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from _dem_compare import mobilized_angle
+    fig, axes = plt.subplots(1, 3, figsize=(13, 4))
+    mus = sorted({mu for (_, mu, _) in results})
+    for (seed, mu, law), v in results.items():
+        if law != "coulomb":
+            continue
+        colour = f"C{mus.index(mu)}"
+        for side, style in (("ours", "-"), ("yade", "--")):
+            run = v.get(side)
+            if run is None:
+                continue
+            e = 100 * run.axial_strain
+            label = f"{'ours' if side == 'ours' else 'YADE'} μ = {mu:g}" if seed == min(
+                s for (s, m, x) in results if m == mu) else None
+            for ax, y in zip(axes, (mobilized_angle(run.stress), run.volumetric_strain,
+                                    run.coordination)):
+                ax.plot(e, y, style, color=colour, lw=0.8, alpha=0.8, label=label)
+    for ax, name in zip(axes, ("mobilized angle asin((σ1 − σ3)/(σ1 + σ3)) (°)",
+                               "volumetric strain (compression +)", "coordination Z")):
+        ax.set_xlabel("axial strain (%)")
+        ax.set_ylabel(name)
+    axes[0].legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    print(f"wrote {path}")
+
+
 # ---- main -----------------------------------------------------------------------------------
 
 def main(argv=None):
@@ -236,6 +273,7 @@ def main(argv=None):
     parser.add_argument("--rerun-yade", action="store_true", help="run YADE even where kept")
     parser.add_argument("--yade-only", action="store_true", help="skip ours")
     parser.add_argument("--threads", type=int, default=1, help="NUMBA_NUM_THREADS for ours")
+    parser.add_argument("--figure", help="angle, ε_v and Z against the axial strain (.png)")
     args = parser.parse_args(argv)
     os.environ["NUMBA_NUM_THREADS"] = str(args.threads)   # before anything imports numba
     seeds = [int(s) for s in args.seeds.split(",")]
@@ -282,6 +320,8 @@ def main(argv=None):
                 "on a shared 2-core machine (the load is the 1-minute load average when YADE ran; "
                 "'kept': YADE's output of an earlier run of the same job). CPU: our process time; "
                 "YADE's subprocess (RUSAGE_CHILDREN), start-up included.")
+    if args.figure:
+        figure(results, args.figure)
     if with_ours:
         laws_table({k: v for k, v in results.items() if v.get("ours_stats") is not None},
                    f"{threads}. Laws: " + "; ".join(f"{k}: {LAW_TEXT[k]}" for k in laws) +
