@@ -1,176 +1,334 @@
-"""Benchmark: 400 polydisperse spheres in axisymmetric compression beside YADE.
+"""Benchmark: random packings in axisymmetric compression to 25 % strain, the DEM engine beside
+YADE on the same samples.
 
-One command: ``python benchmarks/assembly_yade.py [--n 400] [--mu 0.3,0.5] [--budget SECONDS]``.
+One command: ``python benchmarks/assembly_yade.py [--quick] [--seeds 1,2,3] [--mu 0.3,0.5]
+[--laws coulomb,user,orthotropic,dilatant] [--rerun-yade] [--threads 1] [--figure FILE]``.
 
-The sample is made once by :meth:`frictionrules.Assembly.random` (seed 1, polydispersity 0.2,
-radius 1) and given to both codes as it is (positions, radii, cubic cell). Both prepare it the
-same way — frictionless isotropic compression to the pressure p = 1 — then compress it along z
-with σxx = σyy = p held, to 12 % axial strain:
+* Samples: 400 spheres, radii 1 ± 20 %, made by YADE's own generator (``makeCloud``, periodic,
+  a loose cloud) with the given seeds; both codes start from the same positions and radii.
+* Both codes: frictionless isotropic compression to p = 1 (until the stress holds and the
+  unbalanced-force ratio is below 1e-4), then Coulomb μ at every contact, kn = kt = 1e4
+  (kn/(p d) = 5e3), axisymmetric compression at σxx = σyy = p and the inertial number
+  I = ε̇ d √(ρ/p) = 4e-4, local damping 0.2, ρ = 1, to 25 % axial strain, a record every 0.1 %.
+  Ours: ``triaxial(..., method="dem")`` on ``NUMBA_NUM_THREADS`` threads (``--threads``, 1 by
+  default); YADE: ``yade -j1`` (see ``_yade_triaxial.py``).
+* Statistics (``_dem_compare.statistics``): the peak friction angle on a ±0.25 % running mean of
+  asin((σ1 − σ3)/(σ1 + σ3)), the angle and the coordination Z averaged over 20–25 %, the
+  volumetric strain at 25 %, per run and averaged over the samples, ours beside YADE, with the
+  differences against the tolerances (means: 1.5°, 2°, 0.008, 0.15; each run: 2°, 3°, 0.012,
+  0.2) → ``results/assembly_yade.md``.
+* Cost: wall and CPU seconds per run (preparation + shear), steps and time step of both codes,
+  and ours over YADE's (goal ≤ 0.5) → ``results/assembly_yade_times.md``.
+* Laws: a ``UserLaw`` written for Coulomb (the same statistics as the built-in), an elliptic
+  orthotropic law and a dilatant non-associated user law through the same protocol, with the
+  energy balance of each run → ``results/assembly_yade_laws.md``.
 
-* frictionrules: ``triaxial(..., consolidation="frictionless")``, Coulomb μ at every contact,
-  kn = kt = 1e4 (kn/(p d) = 5e3), implicit quasi-static increments of 2e-5 (at most 3 cuts),
-  bounded by ``--budget`` seconds between increments (the table says how far it got);
-* YADE (Debian package ``yade``; ``apt-get install yade``): FrictMat with Young's modulus
-  E = kn/r (so that kn = E r1 r2·2/(r1 + r2) ≈ 1e4), ks/kn from poisson = 1 (YADE's
-  Ip2_FrictMat_FrictMat_FrictPhys gives ks = kn·poisson), CundallStrack, PeriTriaxController
-  (frictionless compaction to p, then friction angle atan μ, strain rate with an inertial
-  number ≈ 1e-3), NewtonIntegrator damping 0.2.
-
-Peak friction angle ``asin((σ1 − σ3)/(σ1 + σ3))`` and the angle at 12 % side by side, with
-both wall times → ``benchmarks/results/assembly_yade.md``. Without YADE the table holds ours only
-and says how to install it.
+YADE's raw outputs are kept under ``results/assembly_yade/`` and reused for the same job
+(``--rerun-yade`` runs them again). ``--quick``: one sample, μ = 0.3, 3 % strain.
 """
 
 from __future__ import annotations
 
 import argparse
+import inspect
 import json
 import math
 import os
-import shutil
-import subprocess
 import sys
-import tempfile
 import time
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _dem_compare import (STORE, Protocol, Run, Stats, have_yade, protocol_notes, statistics,  # noqa: E402
+                          within, yade_sample, yade_triaxial)
 from _table import write_table  # noqa: E402
 
-from frictionrules import Assembly, ContactModel, Coulomb, triaxial  # noqa: E402
-
-KN = 1e4
-P = 1.0
-STRAIN = 0.12
-
-YADE_SCRIPT = r'''
-import json, math, os, time
-from yade import *
-from yade import utils
-d = json.load(open(os.environ["FR_SAMPLE"]))
-mu, kn, p, target = d["mu"], d["kn"], d["pressure"], d["strain"]
-O.periodic = True
-L = d["L"]
-O.cell.hSize = Matrix3(L, 0, 0, 0, L, 0, 0, 0, L)
-rmean = sum(d["radii"]) / len(d["radii"])
-mat = O.materials.append(FrictMat(young=kn / rmean, poisson=1.0, frictionAngle=0.0, density=1.0))
-for x, r in zip(d["positions"], d["radii"]):
-    O.bodies.append(utils.sphere(Vector3(*x), r, material=mat))
-rate = 1e-3 / (2 * rmean) * math.sqrt(p / 1.0)   # inertial number ~ 1e-3
-O.engines = [ForceResetter(), InsertionSortCollider([Bo1_Sphere_Aabb()]),
-             InteractionLoop([Ig2_Sphere_Sphere_ScGeom()], [Ip2_FrictMat_FrictMat_FrictPhys()],
-                             [Law2_ScGeom_FrictPhys_CundallStrack()]),
-             PeriTriaxController(label="triax", goal=(-p, -p, -p), stressMask=7, dynCell=True,
-                                 maxStrainRate=(10 * rate, 10 * rate, 10 * rate),
-                                 maxUnbalanced=0.01, relStressTol=1e-3),
-             NewtonIntegrator(damping=0.2)]
-O.dt = 0.5 * PWaveTimeStep()
-t0 = time.time()
-while True:
-    O.run(200, True)
-    if abs(triax.stress[0] + p) < 1e-3 * p and abs(triax.stress[2] + p) < 1e-3 * p and unbalancedForce() < 0.01:
-        break
-    if time.time() - t0 > 600:
-        break
-t_comp = time.time() - t0
-for b in O.bodies:
-    b.mat.frictionAngle = math.atan(mu)
-for i in O.interactions:
-    i.phys.tangensOfFrictionAngle = mu
-O.cell.trsf = Matrix3.Identity
-triax.goal = (-p, -p, -target)
-triax.stressMask = 3
-triax.maxStrainRate = (10 * rate, 10 * rate, rate)
-triax.maxUnbalanced = 10.0
-rows = []
-t1 = time.time()
-while -triax.strain[2] < target:
-    O.run(100, True)
-    s = triax.stress
-    rows.append((-triax.strain[2], -s[0], -s[1], -s[2]))
-    if time.time() - t1 > 3600:
-        break
-json.dump({"rows": rows, "seconds_compaction": t_comp, "seconds_shear": time.time() - t1,
-           "steps": O.iter}, open(os.environ["FR_OUT"], "w"))
-'''
+LAWS = ("coulomb", "user", "orthotropic", "dilatant")
+LAW_TEXT = {
+    "coulomb": "Coulomb(μ)",
+    "user": 'UserLaw("sqrt(T1**2 + T2**2) - mu*N", potential="sqrt(T1**2 + T2**2)")',
+    "orthotropic": "EllipticOrthotropic(mu_x=μ, mu_y=μ/2)",
+    "dilatant": 'UserLaw("sqrt(T1**2 + T2**2) - mu*N", potential="sqrt(T1**2 + T2**2) - beta*N"), β = μ/3',
+}
 
 
-def angle(s1, s3):
-    return math.degrees(math.asin((s1 - s3) / (s1 + s3)))
+def make_law(name: str, mu: float):
+    """The contact law ``name`` of the comparison at friction ``mu``."""
+    import frictionrules as fr
+    if name == "coulomb":
+        return fr.Coulomb(mu)
+    if name == "user":
+        return fr.UserLaw("sqrt(T1**2 + T2**2) - mu*N", potential="sqrt(T1**2 + T2**2)",
+                          params={"mu": mu})
+    if name == "orthotropic":
+        return fr.EllipticOrthotropic(mu_x=mu, mu_y=mu / 2)
+    if name == "dilatant":
+        return fr.UserLaw("sqrt(T1**2 + T2**2) - mu*N", potential="sqrt(T1**2 + T2**2) - beta*N",
+                          params={"mu": mu, "beta": mu / 3})
+    raise ValueError(f"law {name!r}: one of {', '.join(LAWS)}")
 
 
-def run_yade(sample, mu, tmp: Path):
-    yade = shutil.which("yade")
-    if yade is None:
-        return None
-    data = dict(sample, mu=mu, kn=KN, pressure=P, strain=STRAIN)
-    (tmp / "sample.json").write_text(json.dumps(data))
-    (tmp / "run.py").write_text(YADE_SCRIPT)
-    env = dict(os.environ, FR_SAMPLE=str(tmp / "sample.json"), FR_OUT=str(tmp / "out.json"))
-    t0 = time.perf_counter()
-    subprocess.run([yade, "-n", "-x", str(tmp / "run.py")], env=env, check=True,
-                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd=tmp)
-    wall = time.perf_counter() - t0
-    out = json.loads((tmp / "out.json").read_text())
-    rows = np.array(out["rows"])
-    ratio = rows[:, 3] / rows[:, 1]
-    k = int(np.argmax(ratio))
-    return {"peak": angle(rows[k, 3], rows[k, 1]), "end": angle(rows[-1, 3], rows[-1, 1]),
-            "strain": rows[-1, 0], "seconds": wall, "steps": out["steps"]}
+def ours_available() -> bool:
+    """True where this checkout's ``triaxial`` has the DEM engine (``method="dem"``)."""
+    from frictionrules import triaxial
+    return "method" in inspect.signature(triaxial).parameters
 
 
-def run_ours(assembly, mu, budget):
-    model = ContactModel(Coulomb(mu), kn=KN, kt=KN)
-    a = Assembly(assembly.positions, assembly.radii, assembly.cell, model, tolerance=assembly.tolerance)
-    t0 = time.perf_counter()
-    r = triaxial(a, "axisymmetric", pressure=P, axial_strain=STRAIN, increments=int(STRAIN / 2e-5),
-                 consolidation="frictionless", max_time=budget, max_cuts=3)
-    wall = time.perf_counter() - t0
-    ok = r.converged
-    ratio = np.where(ok, r.stress_ratio, -np.inf)
-    k = int(np.argmax(ratio))
-    last = int(np.flatnonzero(ok)[-1])
-    s = r.stress
-    return {"peak": angle(s[k, 2, 2], s[k, 0, 0]), "end": angle(s[last, 2, 2], s[last, 0, 0]),
-            "strain": float(r.axial_strain[last]), "seconds": wall, "message": r.message,
-            "increments": int(ok.sum()) - 1}
+def _triaxial_dem(sample: dict, law, protocol: Protocol, axial_strain: float):
+    from frictionrules import Assembly, ContactModel, triaxial
+    p = protocol
+    assembly = Assembly(sample["positions"], sample["radii"], sample["cell"],
+                        ContactModel(law, kn=p.kn, kt=p.kt))
+    return triaxial(assembly, "axisymmetric", pressure=p.pressure, axial_strain=axial_strain,
+                    method="dem", inertial_number=p.inertial_number, damping=p.damping,
+                    density=p.density, record_every=p.record_every, consolidation="frictionless")
 
+
+def energy_error(result) -> float:
+    """The largest energy imbalance of the shearing stage over its largest boundary work
+    (``EnergyTerms.relative_error``: boundary work against the elastic energy, the laws'
+    dissipation, the kinetic energy and the damping's loss); NaN without energy records."""
+    energy = getattr(result, "energy", None)
+    return math.nan if energy is None else float(energy.relative_error)
+
+
+def _steps_and_dt(result) -> tuple[int, float]:
+    """Time steps of the whole run and the time step, from the engine's meters."""
+    engine = getattr(result, "engine", None)
+    if engine is None:
+        return -1, math.nan
+    m = engine.meters[0]
+    steps = int(m["steps"])
+    return steps, float(m["time"]) / steps if steps else math.nan
+
+
+def run_ours(sample: dict, mu: float, protocol: Protocol, law: str = "coulomb") -> Run:
+    """Our DEM run of the protocol on ``sample`` with the law ``law`` at friction ``mu``."""
+    cpu0, t0 = time.process_time(), time.perf_counter()
+    r = _triaxial_dem(sample, make_law(law, mu), protocol, protocol.axial_strain)
+    wall, cpu = time.perf_counter() - t0, time.process_time() - cpu0
+    steps, dt = _steps_and_dt(r)
+    run = Run(axial_strain=np.asarray(r.strain)[:, 2, 2], volumetric_strain=np.asarray(r.volumetric_strain),
+              stress=np.asarray(r.stress), coordination=np.asarray(r.coordination), wall=wall,
+              cpu=cpu, steps=steps, dt=dt,
+              info={"energy_error": energy_error(r), "message": r.message})
+    _keep(run, f"seed{sample['seed']}_mu{mu:g}_{law}_{100 * protocol.axial_strain:g}pc")
+    return run
+
+
+def _keep(run: Run, name: str) -> None:
+    """Our records beside YADE's raw outputs (for a later look), written atomically."""
+    folder = STORE / "ours"
+    folder.mkdir(parents=True, exist_ok=True)
+    tmp = folder / f".{name}.npz"
+    with open(tmp, "wb") as f:
+        np.savez(f, axial_strain=run.axial_strain, volumetric_strain=run.volumetric_strain,
+                 stress=run.stress, coordination=run.coordination,
+                 cost=json.dumps({"wall": run.wall, "cpu": run.cpu, "steps": run.steps,
+                                  "dt": run.dt, **run.info}))
+    tmp.replace(folder / f"{name}.npz")
+
+
+def warm_up(sample: dict, protocol: Protocol, laws) -> dict:
+    """Compile each law's kernels once, before any timed run (a short run): seconds per law."""
+    seconds = {}
+    for law in laws:
+        t0 = time.perf_counter()
+        _triaxial_dem(sample, make_law(law, 0.3), protocol, 2 * protocol.record_every)
+        seconds[law] = time.perf_counter() - t0
+    return seconds
+
+
+# ---- tables ---------------------------------------------------------------------------------
+
+def _f(x, digits=2):
+    return "–" if x is None or (isinstance(x, float) and math.isnan(x)) else f"{x:.{digits}f}"
+
+
+def _stat_cells(ours, yade, key, digits, mean):
+    a = getattr(ours, key) if ours else math.nan
+    b = getattr(yade, key)
+    d = a - b
+    return [_f(a, digits), _f(b, digits), f"{_f(d, digits)} {within(d, key, mean)}"]
+
+
+def mean_stats(runs, side: str) -> Stats:
+    """The statistics averaged over ``runs`` (one code: ``side``)."""
+    return Stats(*(float(np.mean([getattr(v[side], key) for v in runs]))
+                   for key in ("peak", "end", "ev", "z", "reached")))
+
+
+def comparison_table(results, mus, protocol, notes):
+    rows = []
+    for mu in mus:
+        runs = [v for (s, m, law), v in results.items() if m == mu and law == "coulomb"]
+        for (seed, m, law), v in results.items():
+            if m == mu and law == "coulomb":
+                rows.append([seed, mu] + sum((_stat_cells(v["ours_stats"], v["yade_stats"], k, d, False)
+                                              for k, d in (("peak", 2), ("end", 2), ("ev", 4), ("z", 2))), []))
+        have_ours = all(v["ours_stats"] is not None for v in runs)
+        rows.append([f"**mean of {len(runs)}**", mu] + sum(
+            (_stat_cells(mean_stats(runs, "ours_stats") if have_ours else None,
+                         mean_stats(runs, "yade_stats"), k, d, True)
+             for k, d in (("peak", 2), ("end", 2), ("ev", 4), ("z", 2))), []))
+    head = ["seed", "μ"]
+    for name in ("peak φ (°)", "end φ (°)", "ε_v", "Z"):
+        head += [f"ours: {name}", f"YADE: {name}", "ours − YADE"]
+    write_table("assembly_yade", "Random packings to critical state: the DEM engine beside YADE",
+                head, rows, notes)
+
+
+def times_table(results, notes):
+    rows, ratios_wall, ratios_cpu = [], [], []
+    for (seed, mu, law), v in results.items():
+        if law != "coulomb":
+            continue
+        o, y = v["ours"], v["yade"]
+        rw = o.wall / y.wall if o else math.nan
+        rc = o.cpu / y.cpu if o else math.nan
+        ratios_wall.append(rw)
+        ratios_cpu.append(rc)
+        rows.append([seed, mu,
+                     _f(o.wall, 1) if o else "–", _f(o.cpu, 1) if o else "–",
+                     f"{o.steps} × {o.dt:.3g}" if o else "–",
+                     _f(1e6 * o.cpu / o.steps, 0) if o and o.steps > 0 else "–",
+                     _f(y.wall, 1), _f(y.cpu, 1),
+                     f"{y.info['consolidation_steps']} + {y.info['shear_steps']} × {y.dt:.3g}",
+                     _f(1e6 * y.info["cpu_inside"] / y.steps, 0),
+                     f"{y.info['loadavg']:.1f}" + (" (kept)" if v["reused"] else ""),
+                     _f(rw), _f(rc)])
+    rows.append(["**median**", "", "", "", "", "", "", "", "", "", "", _f(float(np.median(ratios_wall))),
+                 _f(float(np.median(ratios_cpu)))])
+    write_table("assembly_yade_times", "Cost per run (preparation + shear): the DEM engine beside YADE -j1",
+                ["seed", "μ", "ours: wall s", "ours: CPU s", "ours: steps × dt", "ours: CPU µs/step",
+                 "YADE: wall s", "YADE: CPU s", "YADE: steps (consolidation + shear) × dt",
+                 "YADE: CPU µs/step (inside)",
+                 "load during YADE", "wall ratio ours/YADE (goal ≤ 0.5)", "CPU ratio ours/YADE"],
+                rows, notes)
+
+
+def laws_table(results, notes):
+    rows = []
+    for (seed, mu, law), v in results.items():
+        s = v["ours_stats"]
+        ref = results.get((seed, mu, "coulomb"), {}).get("ours_stats")
+        d = (lambda key: getattr(s, key) - getattr(ref, key)) if ref else (lambda key: math.nan)  # noqa: E731
+        rows.append([law, seed, mu, _f(s.peak), _f(s.end), _f(s.ev, 4), _f(s.z),
+                     _f(d("peak")), _f(d("end")), _f(d("ev"), 4), _f(d("z")),
+                     _f(100 * v["ours"].info["energy_error"], 3), _f(v["ours"].wall, 1),
+                     _f(v["ours"].cpu, 1), _f(100 * s.reached, 1)])
+    write_table("assembly_yade_laws", "Any law at every contact: the same protocol, ours only",
+                ["law", "seed", "μ", "peak φ (°)", "end φ (°)", "ε_v", "Z", "Δ peak vs Coulomb",
+                 "Δ end", "Δ ε_v", "Δ Z", "energy balance error (% of boundary work)", "wall s",
+                 "CPU s", "reached %"], rows, notes)
+
+
+def figure(results, path: str) -> None:
+    """The mobilized angle, the volumetric strain and Z against the axial strain: ours solid,
+    YADE dashed, a colour per μ."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from _dem_compare import mobilized_angle
+    fig, axes = plt.subplots(1, 3, figsize=(13, 4))
+    mus = sorted({mu for (_, mu, _) in results})
+    for (seed, mu, law), v in results.items():
+        if law != "coulomb":
+            continue
+        colour = f"C{mus.index(mu)}"
+        for side, style in (("ours", "-"), ("yade", "--")):
+            run = v.get(side)
+            if run is None:
+                continue
+            e = 100 * run.axial_strain
+            label = f"{'ours' if side == 'ours' else 'YADE'} μ = {mu:g}" if seed == min(
+                s for (s, m, x) in results if m == mu) else None
+            for ax, y in zip(axes, (mobilized_angle(run.stress), run.volumetric_strain,
+                                    run.coordination)):
+                ax.plot(e, y, style, color=colour, lw=0.8, alpha=0.8, label=label)
+    for ax, name in zip(axes, ("mobilized angle asin((σ1 − σ3)/(σ1 + σ3)) (°)",
+                               "volumetric strain (compression +)", "coordination Z")):
+        ax.set_xlabel("axial strain (%)")
+        ax.set_ylabel(name)
+    axes[0].legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    print(f"wrote {path}")
+
+
+# ---- main -----------------------------------------------------------------------------------
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--n", type=int, default=400)
+    parser.add_argument("--seeds", default="1,2,3", help="makeCloud seeds, one sample each")
     parser.add_argument("--mu", default="0.3,0.5")
-    parser.add_argument("--budget", type=float, default=600.0, help="seconds for our run of each μ")
+    parser.add_argument("--strain", type=float, default=0.25, help="final axial strain")
+    parser.add_argument("--laws", default=",".join(LAWS),
+                        help=f"ours: laws to run ({', '.join(LAWS)}); coulomb is compared with YADE")
+    parser.add_argument("--law-samples", type=int, default=1,
+                        help="samples the laws other than coulomb and user run on")
+    parser.add_argument("--quick", action="store_true", help="one sample, μ = 0.3, 3 %% strain")
+    parser.add_argument("--rerun-yade", action="store_true", help="run YADE even where kept")
+    parser.add_argument("--yade-only", action="store_true", help="skip ours")
+    parser.add_argument("--threads", type=int, default=1, help="NUMBA_NUM_THREADS for ours")
+    parser.add_argument("--figure", help="angle, ε_v and Z against the axial strain (.png)")
     args = parser.parse_args(argv)
-    t0 = time.perf_counter()
-    sample = Assembly.random(args.n, 3, ContactModel(Coulomb(0.3), kn=KN, kt=KN),
-                             polydispersity=0.2, seed=1)
-    t_pack = time.perf_counter() - t0
-    data = {"positions": sample.positions.tolist(), "radii": sample.radii.tolist(),
-            "L": float(sample.cell[0, 0])}
-    rows = []
-    have_yade = shutil.which("yade") is not None
-    for mu in (float(m) for m in args.mu.split(",")):
-        with tempfile.TemporaryDirectory() as tmp:
-            yade = run_yade(data, mu, Path(tmp)) if have_yade else None
-        print(f"mu = {mu}: YADE {yade}", flush=True)
-        ours = run_ours(sample, mu, args.budget)
-        fmt = lambda d, key: f"{d[key]:.2f}" if d else "-"  # noqa: E731
-        rows.append([mu, f"{ours['peak']:.2f}", f"{ours['end']:.2f} (at {100 * ours['strain']:.3f} %)",
-                     f"{ours['seconds']:.1f} ({ours['increments']} increments: {ours['message']})",
-                     fmt(yade, "peak"), f"{yade['end']:.2f} (at {100 * yade['strain']:.1f} %)" if yade else "-",
-                     f"{yade['seconds']:.1f} ({yade['steps']} steps)" if yade else "-"])
-        print(rows[-1], flush=True)
-    notes = (f"Sample: {args.n} spheres, radii 1 ± 20 %, seed 1, solid fraction "
-             f"{sample.solid_fraction:.3f} before consolidation (packing {t_pack:.1f} s, shared by "
-             "both). Angles in degrees, asin((σ1 − σ3)/(σ1 + σ3)); wall times in seconds on this "
-             "machine in the same run. " + ("" if have_yade else "YADE is not installed: "
-                                            "`apt-get install yade` (Debian) and run again."))
-    write_table("assembly_yade", "Random packing, axisymmetric compression: frictionrules beside YADE",
-                ["μ", "ours: peak angle", "ours: angle at the end", "ours: seconds",
-                 "YADE: peak angle", "YADE: angle at 12 %", "YADE: seconds"], rows, notes)
+    os.environ["NUMBA_NUM_THREADS"] = str(args.threads)   # before anything imports numba
+    seeds = [int(s) for s in args.seeds.split(",")]
+    mus = [float(m) for m in args.mu.split(",")]
+    laws = [law for law in args.laws.split(",") if law]
+    if any(law not in LAWS for law in laws):
+        parser.error(f"--laws {args.laws}: each one of {', '.join(LAWS)}")
+    protocol = Protocol(axial_strain=args.strain)
+    if args.quick:
+        seeds, mus, protocol = seeds[:1], mus[:1], replace(protocol, axial_strain=0.03)
+    if not have_yade():
+        print("YADE is not installed (Debian: apt-get install yade): kept outputs only", file=sys.stderr)
+    with_ours = not args.yade_only and ours_available()
+    if not args.yade_only and not with_ours:
+        print("this checkout's triaxial has no method='dem': YADE only", file=sys.stderr)
+
+    samples = {seed: yade_sample(seed, protocol) for seed in seeds}
+    warm = warm_up(samples[seeds[0]], protocol, laws) if with_ours else {}
+    results = {}
+    for seed in seeds:
+        for mu in mus:
+            yade, reused = yade_triaxial(samples[seed], mu, protocol, reuse=not args.rerun_yade)
+            entry = {"yade": yade, "yade_stats": statistics(yade, protocol.axial_strain),
+                     "reused": reused, "ours": None, "ours_stats": None}
+            print(f"seed {seed}, μ = {mu}: YADE {entry['yade_stats']}, {yade.cpu:.1f} s CPU"
+                  + (" (kept)" if reused else ""), flush=True)
+            results[(seed, mu, "coulomb")] = entry
+            for law in laws if with_ours else ():
+                if law not in ("coulomb", "user") and seeds.index(seed) >= args.law_samples:
+                    continue
+                ours = run_ours(samples[seed], mu, protocol, law)
+                e = results.setdefault((seed, mu, law), {"reused": False})
+                e.update(ours=ours, ours_stats=statistics(ours, protocol.axial_strain))
+                print(f"  ours {law}: {e['ours_stats']}, {ours.wall:.1f} s wall, {ours.cpu:.1f} s CPU",
+                      flush=True)
+
+    notes = protocol_notes(protocol)
+    threads = f"ours on {args.threads} thread(s) (NUMBA_NUM_THREADS)"
+    comparison_table(results, mus, protocol,
+                     notes + " ✓/✗: within the tolerance of a run (rows) or of the means." +
+                     ("" if with_ours else " Ours not run: no DEM engine in this checkout."))
+    times_table(results, f"{threads}, after a warm-up that compiled each law's kernels "
+                f"({', '.join(f'{k} {v:.1f} s' for k, v in warm.items()) or 'none'}); wall times "
+                "on a shared 2-core machine (the load is the 1-minute load average when YADE ran; "
+                "'kept': YADE's output of an earlier run of the same job). CPU: our process time; "
+                "YADE's subprocess (RUSAGE_CHILDREN), start-up included.")
+    if args.figure:
+        figure(results, args.figure)
+    if with_ours:
+        laws_table({k: v for k, v in results.items() if v.get("ours_stats") is not None},
+                   f"{threads}. Laws: " + "; ".join(f"{k}: {LAW_TEXT[k]}" for k in laws) +
+                   ". Energy balance: boundary work against dissipation + elastic + kinetic + damping "
+                   "at the end of the run.")
 
 
 if __name__ == "__main__":
