@@ -2,8 +2,8 @@ r"""Samples prepared by the dynamic engine: the frictionless compression of a cl
 (:meth:`frictionrules.Assembly.random` and the "frictionless" consolidation of both methods).
 
 Frictionless grains with linear normal springs ``kn`` in a periodic cell whose every normal
-stress is driven by the servo (:mod:`._engine`) to the isotropic ``pressure``, the shear
-components of the cell held; the compression ends where each normal stress is within
+stress is driven by the servo (:mod:`._engine`) to the isotropic ``pressure``, the cell's
+shear strains held (a rectangular cell); the compression ends where each normal stress is within
 :data:`._protocol.STRESS_TOL` of the pressure with an unbalanced-force ratio below
 :data:`._protocol.UNBALANCED_TOL` (YADE's ``PeriTriaxController`` with ``maxUnbalanced``).
 A cloud far below jamming carries no stress: the servo then compresses at its largest rate.
@@ -75,7 +75,7 @@ def frictionless_compression(positions, radii, cell, kn: float, pressure: float,
     dyn, state = _engine(positions, radii, cell, kn, density, damping)
     progress = None if report is None else _Report(report)
     state, _ = consolidate(dyn, state, pressure, _rate(radii, density, pressure), True, progress,
-                           unbalanced_tol=unbalanced_tol)
+                           unbalanced_tol=unbalanced_tol, hold_shear=True, name="packing")
     return _result(dyn, state)
 
 

@@ -10,8 +10,8 @@ takes at the stress rate ``ε̇ k/d`` (``k`` the stiffest contact: an elastic st
 The servo's strain rate is bounded by ``SERVO_RATE ε̇`` during a stage, ``CONSOLIDATION_RATE ε̇``
 during consolidation.
 
-**Consolidation.** Every normal stress is driven to the isotropic ``pressure`` (the cell's
-shear strains held, as YADE's ``PeriTriaxController`` with ``stressMask = 7``) until the stress holds (each component within ``STRESS_TOL`` of the pressure)
+**Consolidation.** Every stress component is driven to the isotropic ``pressure`` (0 off the
+diagonal) until the stress holds (each component within ``STRESS_TOL`` of the pressure)
 with an unbalanced-force ratio below ``UNBALANCED_TOL``: "frictionless" with ``Coulomb(0)`` at
 every contact, after which the laws take over with virgin tangential histories; "stress" with
 the laws from the start. A consolidation that does not settle within ``CONSOLIDATION_STEPS``
@@ -126,15 +126,17 @@ def _phase(progress, text):
 
 
 def consolidate(dyn: Dynamics, state, pressure: float, rate: float, frictionless: bool,
-                progress=None, deadline=None, clock=None, unbalanced_tol: float = UNBALANCED_TOL):
-    """Consolidation (module docstring): the normal stresses driven to ``pressure``, the cell's
-    shear strains held. Returns ``(state, done)``; ``done`` False where the deadline came
-    first."""
+                progress=None, deadline=None, clock=None, unbalanced_tol: float = UNBALANCED_TOL,
+                hold_shear: bool = False, name: str = "consolidation"):
+    """Consolidation (module docstring): the normal stresses driven to ``pressure``, the shear
+    stresses to zero (or the cell's shear strains held: ``hold_shear``, a rectangular cell).
+    Returns ``(state, done)``; ``done`` False where the deadline came first."""
     d = dyn.dim
     comps = components(d)
     diag = np.array([a == b for a, b in comps])
     target = np.where(diag, pressure, 0.0)
-    control = _control(diag, target, target, np.zeros(len(comps)), 0.0,
+    free = diag if hold_shear else np.ones(len(comps), dtype=bool)
+    control = _control(free, target, target, np.zeros(len(comps)), 0.0,
                        CONSOLIDATION_RATE * rate, pressure, True, d, unbalanced_tol)
     clock = clock or _Clock()
     start = int(state.meters[0]["steps"])
@@ -142,8 +144,10 @@ def consolidate(dyn: Dynamics, state, pressure: float, rate: float, frictionless
         state, outcome, _ = clock.run(dyn, state, control, math.inf, frictionless)
         m = state.meters[0]
         mean = np.trace(state.stress[:d, :d]) / d
-        _phase(progress, f"consolidation{' (frictionless)' if frictionless else ''}: "
-                         f"p/p* = {mean / pressure:.4f}, unbalanced force {m['unbalanced']:.2e}")
+        balance = (f"unbalanced force {m['unbalanced']:.2e}" if math.isfinite(m["unbalanced"])
+                   else "no contact yet")
+        _phase(progress, f"{name}{' (frictionless)' if frictionless else ''}: "
+                         f"p/p* = {mean / pressure:.4f}, {balance}")
         if outcome == Outcome.SETTLED:
             return state, True
         if int(m["steps"]) - start > CONSOLIDATION_STEPS:
@@ -254,6 +258,7 @@ def run_test(assembly, kind: str, spec_of, options: dict, progress=None, max_tim
         if frictionless:
             dyn.bring_in_laws(state)
         start_stage(state)
+        _phase(progress, "loading")
         records = [read_record(dyn, state, laws)]
         if writer is not None:
             writer.append(0, records[0], state, dyn, "shear")
@@ -263,12 +268,22 @@ def run_test(assembly, kind: str, spec_of, options: dict, progress=None, max_tim
     control = _control(spec.free, spec.start, spec.end, spec.rate, spec.duration,
                        SERVO_RATE * rate, p, False, d)
     ended = "completed"
+    driven = int(np.argmax(np.abs(spec.rate)))
+    a, b = components(d)[driven]
+    goal = abs(spec.rate[driven]) * spec.duration
+    extra = 0.0
     while len(records) - 1 < total:
         k = len(records)
-        stop = min(k * record_time, spec.duration)
+        stop = min(k * record_time, spec.duration) + extra
         state, outcome, _ = clock.run(dyn, state, control, stop)
         if outcome == Outcome.REACHED:
-            records.append(read_record(dyn, state, laws))
+            record = read_record(dyn, state, laws)
+            if k == total and abs(record.strain[a, b]) < goal and extra < record_time:
+                # the last record at the first step past the end's strain (the cell's free
+                # shear turns the lab frame's strain off the time's by a few steps)
+                extra += 2 * dyn.params().dt
+                continue
+            records.append(record)
             if writer is not None:
                 writer.append(k, records[-1], state, dyn, "shear")
             if progress is not None:

@@ -87,7 +87,7 @@ def read_record(dyn, state: DemState, laws) -> Record:
                            p.state[members, 3:6].copy(), p.status[members].astype(np.int64),
                            dyn.states_of(state, members), p.group[members].copy())
     H = state.cell.H
-    return Record(float(m["time"]), int(m["steps"]), state.stress[:d, :d].copy(),
+    return Record(float(m["stage_time"]), int(m["steps"]), state.stress[:d, :d].copy(),
                   hencky(H, state.cell.H_ref, d), 2.0 * nc / n, float(mech),
                   sliding / nc if nc else 0.0, float(m["unbalanced"]), float(m["boundary_work"]),
                   float(m["dissipation"]), float(m["damping_loss"]), elastic, float(m["kinetic"]),
