@@ -21,7 +21,7 @@ from __future__ import annotations
 
 __all__ = ["TOL", "MAX_ITER", "MAX_HALVINGS", "SUFFICIENT_DECREASE", "MAX_SUBSTEP_DEPTH",
            "KINK_RADIUS", "KINK_POINTS", "SCALAR_TOL", "SCALAR_MAX_ITER", "ELASTIC", "PLASTIC",
-           "OPEN", "APEX", "FAILED", "RETURN_GENERIC", "RETURN_RADIAL", "RETURN_ELLIPTIC", "RETURN_SIZE",
+           "OPEN", "APEX", "FAILED", "GENERAL", "RETURN_GENERIC", "RETURN_RADIAL", "RETURN_ELLIPTIC", "RETURN_SIZE",
            "kink_circle", "placeholders"]
 
 #: Newton tolerance on the dimensionless residual: a few hundred ulps of the force scale, far
@@ -66,6 +66,9 @@ ELASTIC, PLASTIC, OPEN = 0, 1, 2
 #: Outcomes of one return inside the compiled and exported updates: a return that ends at the
 #: apex of a cone (reported as OPEN), and a Newton iteration that failed (the step is halved).
 APEX, FAILED = 3, -1
+#: What a law's generated step returns for a contact it leaves to the general return (a limit
+#: condition that is not finite at the trial, a return through the apex, N <= 0 on the way).
+GENERAL = -2
 
 
 def kink_circle(T1, T2, N):
