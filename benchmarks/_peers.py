@@ -4,8 +4,10 @@ own Python on the same W, q, mu, its answer read back and measured with our erro
 * Siconos 4.4 (Debian ``python3-siconos python3-scipy`` for ``/usr/bin/python3``): NSGS,
   NSN_AC, PROX and ADMM of ``fc3d_driver``, fed W as ``SBM_from_csparse(3, W_csc)``.
 * Pinocchio 4.1 (``pip install pin scipy`` in a separate venv, named by ``--pinocchio-python``
-  or ``$PINOCCHIO_PYTHON``): ``ADMMConstraintSolver`` on ``DelassusOperatorSparse`` and
-  ``PGSConstraintSolver`` on ``DelassusOperatorDense`` (PGS takes a dense Delassus only), with
+  or ``$PINOCCHIO_PYTHON``): ``ADMMConstraintSolver`` on ``DelassusOperatorSparse`` (``ADMM``;
+  ``ADMM_DENSE`` on ``DelassusOperatorDense`` can be named, and was slower on KaplasTower, 4.9 s
+  of CPU against 2.0 s) and ``PGSConstraintSolver`` on ``DelassusOperatorDense`` (PGS takes a
+  dense Delassus only), the dense ones up to ``PGS_MAX_UNKNOWNS`` unknowns; with
   ``solve_ncp=True`` (De Saxcé's correction: the exact Coulomb problem), one
   ``PointContactConstraintModel`` per contact carrying its mu; components reordered to
   Pinocchio's ``(T1, T2, N)``.
@@ -22,6 +24,8 @@ from pathlib import Path
 import numpy as np
 
 SYSTEM_PYTHON = "/usr/bin/python3"
+#: Every peer runs on one thread, as ours do (``blas_threads=1``): the same CPU for everybody.
+SINGLE_THREAD = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
 
 #: (solver, iteration limit) of each peer; Pinocchio's PGS only up to this many unknowns (its
 #: dense Delassus needs 8 n^2 bytes).
@@ -29,7 +33,11 @@ SICONOS = (("NSGS", 100000), ("NSN_AC", 2000), ("PROX", 1000), ("ADMM", 20000))
 PINOCCHIO = (("ADMM", 20000), ("PGS", 100000))
 PGS_MAX_UNKNOWNS = 6000
 
-SICONOS_RUNNER = r"""
+#: Repetitions of a run: until its CPU time adds up to REPEAT_SECONDS, at most REPEATS_MAX
+#: (the median is reported with the spread); a run of a tiny problem is repeated hundreds of times.
+REPEAT_PREAMBLE = "REPEAT_SECONDS, REPEATS_MAX = 0.3, 400\n"
+
+SICONOS_RUNNER = REPEAT_PREAMBLE + r"""
 import json, resource, sys, time
 import numpy as np
 import scipy.sparse as sp
@@ -41,26 +49,23 @@ W = sp.csc_matrix((data["x"], data["i"].astype(np.int64), data["p"].astype(np.in
 q, mu = data["q"], data["mu"]
 status, sbm = sn.SBM_from_csparse(3, W)
 problem = sn.FrictionContactProblem(3, sbm, q, mu)
-best = None
-for _ in range(5):
+times, spent, last = [], 0.0, None
+while len(times) < REPEATS_MAX and (not times or spent < REPEAT_SECONDS):
     options = sn.SolverOptions(getattr(sn, "SICONOS_FRICTION_3D_" + solver))
     options.iparam[sn.SICONOS_IPARAM_MAX_ITER] = max_iter
     options.dparam[sn.SICONOS_DPARAM_TOL] = tol
     r, u = np.zeros(q.size), np.zeros(q.size)
-    t0 = time.perf_counter()
+    t0 = time.thread_time()
     info = sn.fc3d_driver(problem, r, u, options)
-    seconds = time.perf_counter() - t0
-    if best is None or seconds < best[0]:
-        best = (seconds, info, int(options.iparam[sn.SICONOS_IPARAM_ITER_DONE]),
-                float(options.dparam[sn.SICONOS_DPARAM_RESIDU]), r)
-    if seconds > 0.2:
-        break
-np.save(sys.argv[5], best[4])
-print(json.dumps({"info": int(best[1]), "iterations": best[2], "own_error": best[3], "seconds": best[0],
+    times.append(time.thread_time() - t0)
+    spent += times[-1]
+    last = (info, int(options.iparam[sn.SICONOS_IPARAM_ITER_DONE]), float(options.dparam[sn.SICONOS_DPARAM_RESIDU]), r)
+np.save(sys.argv[5], last[3])
+print(json.dumps({"info": int(last[0]), "iterations": last[1], "own_error": last[2], "times": times,
                   "peak_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}))
 """
 
-PINOCCHIO_RUNNER = r"""
+PINOCCHIO_RUNNER = REPEAT_PREAMBLE + r"""
 import json, resource, sys, time
 import numpy as np
 import scipy.sparse as sp
@@ -81,10 +86,10 @@ for a in range(nc):
     c = pin.ConstraintModel(cm)
     models.append(c)
     datas.append(c.createData())
-best = None
-for _ in range(5):
-    if solver == "ADMM":
-        G = pin.DelassusOperatorSparse(Wp)
+times, spent, last = [], 0.0, None
+while len(times) < REPEATS_MAX and (not times or spent < REPEAT_SECONDS):
+    if solver.startswith("ADMM"):
+        G = pin.DelassusOperatorSparse(Wp) if solver == "ADMM" else pin.DelassusOperatorDense(Wp.toarray())
         s, st, res = pin.ADMMConstraintSolver(n), pin.ADMMSolverSettings(), pin.ADMMSolverResult()
     else:
         G = pin.DelassusOperatorDense(Wp.toarray())
@@ -94,19 +99,17 @@ for _ in range(5):
     st.absolute_complementarity_tol = st.relative_complementarity_tol = tol
     st.solve_ncp = True
     g = q[perm].copy()
-    t0 = time.perf_counter()
+    t0 = time.thread_time()
     ok = s.solve(G, g, models, datas, st, res)
-    seconds = time.perf_counter() - t0
+    times.append(time.thread_time() - t0)
+    spent += times[-1]
     lam = np.asarray(res.retrieveConstraintImpulses()).ravel()
     r = np.empty(n)
     r[perm] = lam
-    if best is None or seconds < best[0]:
-        best = (seconds, bool(ok), int(res.iterations), r)
-    if seconds > 0.2:
-        break
-np.save(sys.argv[5], best[3])
-print(json.dumps({"info": 0 if best[1] else 1, "iterations": best[2], "own_error": float("nan"),
-                  "seconds": best[0], "peak_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}))
+    last = (bool(ok), int(res.iterations), r)
+np.save(sys.argv[5], last[2])
+print(json.dumps({"info": 0 if last[0] else 1, "iterations": last[1], "own_error": float("nan"),
+                  "times": times, "peak_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}))
 """
 
 
@@ -138,18 +141,26 @@ def save_problem(problem, path: Path) -> Path:
 
 def run_peer(python: str, runner: str, data: Path, solver: str, max_iter: int, tol: float, tmp: Path,
              timeout: float) -> dict:
-    """One peer run in a subprocess: ``{info, iterations, seconds, peak_mb, r}``; ``r`` is None
-    (and ``info`` says why) when it crashed or ran out of time."""
+    """One peer run in a subprocess: ``{info, iterations, times, peak_mb, r}`` (``times``: the
+    CPU seconds of each repetition of the solver call); ``r`` is None (and ``info`` says why)
+    when it crashed or ran out of time."""
     rfile = tmp / "r.npy"
     rfile.unlink(missing_ok=True)
+    env = dict(os.environ, **SINGLE_THREAD)
+
+    def cpu_limit():                        # CPU seconds, not the wall clock of a loaded machine
+        resource.setrlimit(resource.RLIMIT_CPU, (int(timeout) + 1, int(timeout) + 2))
     try:
         out = subprocess.run([python, "-c", runner, str(data), solver, str(max_iter), str(tol), str(rfile)],
-                             capture_output=True, text=True, timeout=timeout)
+                             capture_output=True, text=True, timeout=20 * timeout + 60, env=env,
+                             preexec_fn=cpu_limit)
     except subprocess.TimeoutExpired:
-        return {"info": "timeout", "iterations": 0, "seconds": float("inf"), "peak_mb": float("nan"), "r": None}
+        return {"info": "timeout", "iterations": 0, "times": [float("inf")], "peak_mb": float("nan"), "r": None}
+    if out.returncode in (-24, 128 + 24):   # SIGXCPU: the CPU limit
+        return {"info": "timeout", "iterations": 0, "times": [float("inf")], "peak_mb": float("nan"), "r": None}
     if out.returncode != 0 or not out.stdout.strip():
         peak = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024
-        return {"info": "crash", "iterations": 0, "seconds": float("inf"), "peak_mb": peak, "r": None,
+        return {"info": "crash", "iterations": 0, "times": [float("inf")], "peak_mb": peak, "r": None,
                 "message": (out.stderr.strip().splitlines() or ["?"])[-1]}
     res = json.loads(out.stdout.strip().splitlines()[-1])
     res["r"] = np.load(rfile)

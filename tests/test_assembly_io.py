@@ -1,5 +1,6 @@
 """Assembly runs: the HDF5 run file and resuming, the CLI, random packings."""
 
+import io
 import subprocess
 import sys
 from pathlib import Path
@@ -80,3 +81,60 @@ def test_random_assembly_biaxial_few_increments():
     assert r.stress[0, 0, 0] == pytest.approx(1.0, rel=1e-8)
     assert r.stress_ratio[-1] > r.stress_ratio[1] > 1
     assert np.all(np.abs(r.contact_work[1:] - r.boundary_work[1:]) <= 1e-8 * np.abs(r.boundary_work[1:]))
+
+
+def _write(path, sample, law, loading):
+    path.write_text(f"[sample]\n{sample}\n[model]\nkn = 1e6\nkt = 1e6\n[model.law]\n{law}\n"
+                    f"[loading]\n{loading}\n")
+    return path
+
+
+def _cli(*args):
+    return subprocess.run([sys.executable, "-m", "frictionrules", "assembly", *map(str, args)],
+                          capture_output=True, text=True)
+
+
+def test_cli_run_that_stops_unconverged_exits_1(tmp_path):
+    """Without cuts the plateau increment of the associated rule in plane strain does not
+    converge: the run stops before a peak is detected; it says so (no infinite strength) and
+    exits 1."""
+    cfg = _write(tmp_path / "stop.toml", 'lattice = "fcc"\nframe = "layer"',
+                 'type = "Coulomb"\nmu = 0.3\ndilatant = true',
+                 'kind = "plane_strain"\npressure = 1.0\naxial_strain = 2e-4\nincrements = 40\n'
+                 'max_cuts = 0')
+    res = _cli(cfg, "--out", tmp_path / "stop.h5")
+    assert res.returncode == 1, res.stderr
+    assert "did not converge" in res.stdout and "inf" not in res.stdout
+    assert "no peak reached before the run stopped at axial strain" in res.stdout
+    assert "largest σ1/σ3 4.779" in res.stdout
+
+
+def test_cli_refuses_a_random_packing_too_small(tmp_path):
+    cfg = _write(tmp_path / "two.toml", "random = true\nn = 2\ndim = 3",
+                 'type = "Coulomb"\nmu = 0.3', 'kind = "axisymmetric"\npressure = 1.0')
+    res = _cli(cfg, "--out", tmp_path / "two.h5")
+    assert res.returncode == 2 and res.stderr.count("\n") == 1
+    assert "n = 2 violates: an integer >= 10" in res.stderr and "two largest diameters" in res.stderr
+    assert not (tmp_path / "two.h5").exists()
+
+
+class _Terminal(io.StringIO):
+    def isatty(self):
+        return True
+
+
+def test_cli_shows_preparation_and_no_peak_without_failure(tmp_path, monkeypatch, capsys):
+    """The frictionless compression and the consolidation show on the progress line; a sample
+    that never fails (μ = 1.2 locks Thornton's array) reports how far it went, not a peak."""
+    from frictionrules.cli import main
+    cfg = _write(tmp_path / "lock.toml", 'lattice = "fcc"', 'type = "Coulomb"\nmu = 1.2',
+                 'kind = "axisymmetric"\npressure = 1.0\naxial_strain = 1e-4\nincrements = 5\n'
+                 'consolidation = "frictionless"')
+    terminal = _Terminal()
+    monkeypatch.setattr(sys, "stderr", terminal)
+    assert main(["assembly", str(cfg), "--out", str(tmp_path / "lock.h5")]) == 0
+    shown = terminal.getvalue()
+    assert "frictionless compression: trial 1, mean stress" in shown
+    assert "consolidation to pressure 1" in shown and "\r" in shown
+    out = capsys.readouterr().out
+    assert "no peak up to axial strain" in out and "inf" not in out

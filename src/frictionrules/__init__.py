@@ -38,8 +38,9 @@ from .asperities import (FitResult, FittedParameter, ScaleStudy, SurfaceFriction
 # multi-contact problems and FCLIB files; frictionrules.io is the FCLIB module
 from .io import read_fclib, write_fclib
 from .multicontact import (ADMMOptions, FrictionContactProblem, IterationInfo, NewtonOptions,
-                           NSGSOptions, ProxOptions, RelaxationComparison, Solution, SolveRecord,
-                           compare_relaxation, solve, solve_many)
+                           NSGSOptions, PolishOptions, ProxOptions, RelaxationComparison, Solution,
+                           compare_relaxation, solve)
+from .batch import SolveRecord, solve_many
 from .parallel import SweepPoint, sweep
 # elastic-plastic contact with hardening and softening (§4)
 from .contact import ContactModel, ContactState, DriveResult, UpdateResult, drive
@@ -108,6 +109,7 @@ __all__ = [
     "NewtonOptions",
     "ProxOptions",
     "ADMMOptions",
+    "PolishOptions",
     "IterationInfo",
     "solve_many",
     "SolveRecord",

@@ -74,12 +74,13 @@ def check_output(path, allowed_suffixes: Sequence[str], *, name: str = "--out") 
     return path
 
 
-def check_folder(path, *, name: str = "--out") -> Path:
+def check_folder(path, *, name: str = "--out", shown=None) -> Path:
     """Check an output folder before any work is done; return it as a :class:`Path`.
 
     ``path`` may not exist yet; its nearest existing ancestor must be a folder in which this
     process can create a file (tried with a probe file, removed at once: ``/proc`` and
-    read-only mounts pass a permission test but refuse files).
+    read-only mounts pass a permission test but refuse files). ``shown``: the path the user
+    gave (a file to be written in the folder), named in the message instead of the folder.
 
     Raises
     ------
@@ -87,16 +88,17 @@ def check_folder(path, *, name: str = "--out") -> Path:
         Naming the argument ``name``, the path and the constraint.
     """
     path = Path(path)
+    given = str(path if shown is None else shown)
     existing = _existing(path)
     if not existing.is_dir():
-        raise FrictionRulesError(f"{name} = {str(path)!r}: {str(existing)!r} is not a folder; "
+        raise FrictionRulesError(f"{name} = {given!r}: {str(existing)!r} is not a folder; "
                                  "constraint: a folder (new or existing) you may write in")
     try:
         fd, probe = tempfile.mkstemp(dir=existing, prefix=".frictionrules-probe-")
         os.close(fd)
         os.unlink(probe)
     except OSError as exc:
-        raise FrictionRulesError(f"{name} = {str(path)!r}: cannot write in {str(existing)!r} "
+        raise FrictionRulesError(f"{name} = {given!r}: cannot write in {str(existing)!r} "
                                  f"({exc.strerror or type(exc).__name__}); constraint: a folder "
                                  "you may write in") from None
     return path

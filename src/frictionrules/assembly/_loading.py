@@ -48,14 +48,16 @@ def initial_state(assembly: Assembly) -> SampleState:
     return SampleState(assembly.positions, assembly.cell, contacts, np.zeros((d, d)), np.zeros((d, d)))
 
 
-def prepared_state(assembly: Assembly, pressure: float) -> SampleState:
+def prepared_state(assembly: Assembly, pressure: float, report=None) -> SampleState:
     """The sample compressed without friction to ``pressure`` (its normal springs balanced,
-    no tangential force): the start of a random sample's consolidation."""
+    no tangential force): the start of a random sample's consolidation. ``report(text)``,
+    when given, hears how the compression goes."""
     from ._random import frictionless_compression
     base = build(assembly, assembly.positions, assembly.cell)
     kns = {m.kn for m in base.models}
     kn = float(np.mean(sorted(kns)))
-    x, h = frictionless_compression(assembly.positions, assembly.radii, assembly.cell, kn, pressure)
+    x, h = frictionless_compression(assembly.positions, assembly.radii, assembly.cell, kn, pressure,
+                                    report=report)
     contacts = build(assembly, x, h, check_overlap=False)
     force = snapshot(contacts).force
     l3 = embed(branches(x, h, contacts.i, contacts.j, contacts.shift))
@@ -228,7 +230,9 @@ def triaxial(assembly: Assembly, kind: str, *, pressure: float, axial_strain: fl
         drops to ``failure_slope`` times its initial (elastic) slope or below: the peak or the
         plateau of a mechanism.
     progress : callable, optional
-        ``progress(done, total)`` after every increment.
+        ``progress(done, total)`` after every increment; where it also has a method
+        ``phase(text)`` (as the command line's progress bar), the preparation of the sample
+        (frictionless compression, consolidation) reports its stages through it.
     max_time : float, optional
         Stop after this many seconds (the increments done are kept).
     run_file : path, optional
@@ -272,16 +276,18 @@ def _run_test(assembly, kind, cons, shear, options, progress, max_time, run_file
         from ._runfile import RunFile
         writer = RunFile.open(run_file, assembly, options)
         done = writer.rows()
-    if options["consolidation"] == "frictionless":
-        state0 = prepared_state(assembly, options["pressure"])
-        cons = cons[-1:]  # at the pressure already: one increment brings in the laws
-    else:
-        state0 = initial_state(assembly)
-    _check_laws(assembly, state0)
+    phase = getattr(progress, "phase", None) or (lambda text: None)
     if done:
         rows = done
         state = rows[-1][0]
     else:
+        if options["consolidation"] == "frictionless":
+            state0 = prepared_state(assembly, options["pressure"], report=phase)
+            cons = cons[-1:]  # at the pressure already: one increment brings in the laws
+        else:
+            state0 = initial_state(assembly)
+        _check_laws(assembly, state0)
+        phase(f"consolidation to pressure {options['pressure']:.6g}")
         rows_c, ended, limit = run(assembly, state0, cons, rtol=rtol, max_cuts=max_cuts)
         if not rows_c[-1][2]:
             raise FrictionRulesError(f"the sample could not be consolidated to pressure = "
@@ -301,6 +307,7 @@ def _run_test(assembly, kind, cons, shear, options, progress, max_time, run_file
         if progress is not None:
             progress(start_count + done_, len(shear))
 
+    phase("")
     if remaining and rows[-1][2]:
         new_rows, ended, limit = run(assembly, state, remaining, rtol=rtol, max_cuts=max_cuts,
                                      progress=bar, on_increment=record, max_time=max_time)

@@ -26,10 +26,13 @@ import numpy as np
 
 from ..errors import FrictionRulesError, check_scalar
 
-__all__ = ["Packing", "random_packing"]
+__all__ = ["Packing", "random_packing", "minimum_grains"]
 
 #: Solid fraction of the random start, per dimension.
 START = {2: 0.5, 3: 0.3}
+#: Solid fraction of random close packing of equal grains (disks, spheres): the densest a
+#: random packing gets, so the smallest its cell can be.
+JAMMED = {2: 0.84, 3: 0.64}
 
 
 @dataclass(frozen=True)
@@ -96,6 +99,26 @@ def _relax(x, radii, L, spatial, tol, iterations):
     return x, (float(ov.max()) if len(ov) else 0.0)
 
 
+def minimum_grains(dim: int, polydispersity: float = 0.0,
+                   solid_fraction: float | None = None) -> int:
+    r"""The fewest grains of a random packing: its periodic cell must be at least two largest
+    diameters wide, ``L >= 4 r_max``, so that a grain and its own image are at least a
+    diameter apart and other grains come between them.
+
+    With the cell of the grains at the solid fraction ``φ`` (random close packing unless
+    given), ``L^d = n ⟨v⟩/φ``: ``n >= φ (4 r_max)^d/⟨v⟩``, with ``r_max = r (1 + p)`` and the
+    mean grain volume ``⟨v⟩`` of radii ``r (1 + p u)``, ``u`` uniform in ``[-1, 1]``
+    (``⟨(1 + p u)²⟩ = 1 + p²/3``, ``⟨(1 + p u)³⟩ = 1 + p²``). Equal spheres: 10; equal
+    disks: 5.
+    """
+    phi = JAMMED[dim] if solid_fraction is None else solid_fraction
+    if dim == 2:
+        mean = np.pi * (1 + polydispersity**2 / 3)
+    else:
+        mean = 4 / 3 * np.pi * (1 + polydispersity**2)
+    return int(np.ceil(phi * (4 * (1 + polydispersity)) ** dim / mean))
+
+
 def random_packing(n: int, dim: int, *, radius=1.0, polydispersity: float = 0.0,
                    solid_fraction: float | None = None, seed: int = 0,
                    max_sweeps: int = 400) -> Packing:
@@ -104,7 +127,7 @@ def random_packing(n: int, dim: int, *, radius=1.0, polydispersity: float = 0.0,
     Parameters
     ----------
     n : int
-        Number of grains, ``>= 2``.
+        Number of grains, at least :func:`minimum_grains` (a cell two largest diameters wide).
     dim : {2, 3}
         Disks or spheres.
     radius : float
@@ -118,8 +141,6 @@ def random_packing(n: int, dim: int, *, radius=1.0, polydispersity: float = 0.0,
     max_sweeps : int
         Bound on the relaxation iterations of one stage.
     """
-    if not isinstance(n, (int, np.integer)) or n < 2:
-        raise FrictionRulesError(f"n = {n!r} violates: an integer >= 2")
     if dim not in (2, 3):
         raise FrictionRulesError(f"dim = {dim!r} violates: 2 or 3")
     r0 = check_scalar("radius", radius, lo=0.0, lo_open=True)
@@ -128,6 +149,13 @@ def random_packing(n: int, dim: int, *, radius=1.0, polydispersity: float = 0.0,
     if solid_fraction is not None:
         solid_fraction = check_scalar("solid_fraction", solid_fraction, lo=0.05, lo_open=True,
                                       hi=top, hi_open=True)
+    least = minimum_grains(dim, p, solid_fraction)
+    if not isinstance(n, (int, np.integer)) or n < least:
+        grains = "disks" if dim == 2 else "spheres"
+        raise FrictionRulesError(
+            f"n = {n!r} violates: an integer >= {least} for {grains} of polydispersity {p!r}: "
+            "a random packing needs a periodic cell at least two largest diameters wide (else "
+            "grains touch their own images and the sample is a crystal of a few grains)")
     if not isinstance(seed, (int, np.integer)):
         raise FrictionRulesError(f"seed = {seed!r} violates: an integer")
     rng = np.random.default_rng(int(seed))
@@ -168,13 +196,14 @@ def random_packing(n: int, dim: int, *, radius=1.0, polydispersity: float = 0.0,
 
 
 def frictionless_compression(positions, radii, cell, kn: float, pressure: float,
-                             max_sweeps: int = 2000):
+                             max_sweeps: int = 2000, report=None):
     r"""Scale the cell isotropically until frictionless grains with linear normal springs
     ``kn`` carry the mean stress ``pressure`` in equilibrium (DEM's frictionless preparation).
 
     The positions minimize :math:`E = \tfrac12 k_n \sum_c \delta_c^2` (overlaps ``δ``) at each
     trial scale; the scale is found by bisection on the mean stress
-    :math:`p = \frac{1}{dV}\sum_c k_n\delta_c |l_c|`. Returns ``(positions, cell)``.
+    :math:`p = \frac{1}{dV}\sum_c k_n\delta_c |l_c|`. Returns ``(positions, cell)``;
+    ``report(text)``, when given, hears the mean stress of every trial scale.
     """
     from .._optional import require
     optimize = require("scipy.optimize", purpose="the frictionless preparation of a sample")
@@ -199,8 +228,13 @@ def frictionless_compression(positions, radii, cell, kn: float, pressure: float,
         f = find_contacts(y, radii, h, 0.0)
         l = branches(y, h, f.i, f.j, f.shift)
         p = kn * float(np.sum(-f.gap * np.linalg.norm(l, axis=1))) / (d * abs(np.linalg.det(h)))
+        trials[0] += 1
+        if report is not None:
+            report(f"frictionless compression: trial {trials[0]}, mean stress {p:.4g} of "
+                   f"{pressure:.4g}")
         return y, p
 
+    trials = [0]
     x0, h0 = np.asarray(positions, float), np.asarray(cell, float)
     lo, hi = None, 1.0  # scales with p > pressure (lo) and p <= pressure (hi)
     x_hi = x0

@@ -16,7 +16,8 @@ stress-controlled component ``k`` (basis ``G_k``), :math:`V(\sigma^* - \sigma):G
 the compression-positive stress :math:`\sigma = \frac1V\sum_c f_c\otimes l_c`, ``f = -Qᵀ P``
 the force of ``i`` on ``j`` (``docs/assembly.md``). The Jacobian is ``Bᵀ S B`` with the
 consistent tangents ``S = diag(1, 1, -1) ∂(T1, T2, N)/∂u`` of ``ContactModel.update``, one
-batched call per contact model.
+batched call per contact model. Mechanisms (modes of the Jacobian without stiffness), changes of
+a contact's status on the way and rattlers are handled in :mod:`._newton`.
 """
 
 from __future__ import annotations
@@ -25,12 +26,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..contact.state import OPEN
 from ._contacts import ContactSet, branches, embed
+from ._newton import along_mechanism, line_search, newton_direction, rattlers
 
 __all__ = ["Kinematics", "Outcome", "solve_increment", "components", "stress_of"]
 
 #: Above this many unknowns the Jacobian is sparse (SciPy).
 DENSE_LIMIT = 400
+#: Newton iterations that change no contact's status without halving the merit after which
+#: an increment is given up.
+STALL = 6
 _SIGN = np.array([1.0, 1.0, -1.0])
 
 
@@ -62,16 +68,32 @@ class Kinematics:
     branch: np.ndarray   # (m, 3)
     volume: float
 
-    def columns(self, free: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Columns of the unknowns (grain 0's translation removed, free cell components) and of
-        the prescribed cell components."""
-        g = self.ndof_grains
+    def columns(self, free: np.ndarray, fixed: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Columns of the unknowns and of the prescribed cell components.
+
+        The unknowns: the translations and rotations of the grains not ``fixed`` (n,) bool,
+        but the translation of the first of them (it holds the sample against a rigid
+        translation), and the free cell components.
+        """
+        d, g, n, nr = self.dim, self.ndof_grains, self.grains, self.rotations
+        moving = np.flatnonzero(~fixed)
+        trans = (moving[1:, None] * d + np.arange(d)).ravel()
+        rot = (n * d + moving[:, None] * nr + np.arange(nr)).ravel()
         cell = g + np.arange(self.ncomp)
-        return np.concatenate((np.arange(self.dim, g), cell[free])), cell[~free]
+        return np.concatenate((trans, rot, cell[free])), cell[~free]
 
     @property
     def dim(self) -> int:
         return 2 if self.ncomp == 3 else 3
+
+    @property
+    def rotations(self) -> int:
+        """Rotations per grain (1 for disks, 3 for spheres)."""
+        return 1 if self.dim == 2 else 3
+
+    @property
+    def grains(self) -> int:
+        return self.ndof_grains // (self.dim + self.rotations)
 
 
 def kinematics(positions, radii, cell, contacts: ContactSet) -> Kinematics:
@@ -155,12 +177,12 @@ class _Eval:
 
 
 def _elastic_tangents(contacts: ContactSet, status: np.ndarray) -> np.ndarray:
-    """The elastic tangents of the closed contacts (0 where open): a direction that descends
-    where the consistent tangent's Newton step does not."""
+    """The elastic tangents of the closed contacts (0 where open): the stiffness a mode of the
+    Jacobian is measured against to tell a mechanism (:func:`._newton.newton_direction`)."""
     out = np.zeros((contacts.size, 3, 3))
     for g, model in enumerate(contacts.models):
         idx = contacts.members(g)
-        out[idx] = np.where((status[idx] != 2)[:, None, None], model.elastic_tangent, 0.0)
+        out[idx] = np.where((status[idx] != OPEN)[:, None, None], model.elastic_tangent, 0.0)
     return out
 
 
@@ -207,25 +229,60 @@ def solve_increment(positions, radii, cell, contacts: ContactSet, free: np.ndarr
         contact set).
     """
     n, d = positions.shape
+    nr = 1 if d == 2 else 3
     kin = kinematics(positions, radii, cell, contacts)
-    cols_free, cols_pres = kin.columns(free)
+    mult = np.array([1.0 if a == b else 2.0 for a, b in components(d)])
+    fixed = rattlers(n, contacts.i, contacts.j, contacts.per_contact("elastic")[:, 2] <= gap)
+    vec = np.zeros(kin.ndof_grains + kin.ncomp)   # every grain and cell unknown
+    it = 0
+    while True:
+        ev, vec, passes = _newton(kin, contacts, free, prescribed, target * mult, fixed, vec, rtol,
+                                  max_iterations, gap, max_move, r_mean=float(np.mean(radii)))
+        it += passes
+        converged = bool(np.isfinite(ev.residual) and ev.residual <= rtol)
+        # A grain left out as a rattler must carry no force at the solution, else it takes
+        # part: solve again with it.
+        loaded = fixed & np.isin(np.arange(n), np.concatenate(
+            (contacts.i[ev.status != OPEN], contacts.j[ev.status != OPEN])))
+        if not (converged and loaded.any()):
+            break
+        fixed &= ~loaded
+    u, force, status, states, residual = ev.u, ev.force, ev.status, ev.states, ev.residual
+    # the motion of the increment
+    g = kin.ndof_grains
+    dw = vec[:n * d].reshape(n, d)
+    dtheta = vec[n * d:g].reshape(n, nr)
+    e = np.where(free, vec[g:], prescribed)
+    dE = np.einsum("k,kab->ab", e, basis(d))[:d, :d]
+    sigma = stress_of(force, contacts.frames, kin.branch, kin.volume, d)
+    contact_work = float(np.sum(force * _SIGN * u))
+    boundary_work = float(-kin.volume * np.sum(sigma * dE))
+    return Outcome(converged, it, residual, states, force, status, u, dw, dtheta, dE, sigma,
+                   contact_work, boundary_work)
+
+
+def _newton(kin, contacts, free, prescribed, target, fixed, vec, rtol, max_iterations, gap,
+            max_move, r_mean):
+    """Newton's iteration from the unknowns ``vec`` with the grains ``fixed`` left out;
+    returns ``(last evaluation, unknowns, iterations)``.
+
+    ``target`` is ``σ*_k`` times the multiplicity of the component (2 off the diagonal).
+    """
+    n, d = kin.grains, kin.dim
+    m = contacts.size
+    cols_free, cols_pres = kin.columns(free, fixed)
     B = kin.B
     dense = isinstance(B, np.ndarray)
     B_free, B_pres = B[:, cols_free], B[:, cols_pres]
     u0 = B_pres @ prescribed[~free]
     nfree = len(cols_free)
     ncell = int(free.sum())
-    mult = np.array([1.0 if a == b else 2.0 for a, b in components(d)])
     # -V σ*:G_k of the stress-controlled components (the "external" part of the residual)
     f_ext = np.zeros(nfree)
     if ncell:
-        f_ext[-ncell:] = kin.volume * (target * mult)[free]
-    nr = 1 if d == 2 else 3
-    row_kind = np.concatenate((np.zeros(n * d - d), np.ones(n * nr), np.full(ncell, 2))).astype(int)
-    r_mean = float(np.mean(radii))
+        f_ext[-ncell:] = kin.volume * target[free]
+    row_kind = np.where(cols_free < n * d, 0, np.where(cols_free < kin.ndof_grains, 1, 2))
     lnorm = np.linalg.norm(kin.branch, axis=1)
-    x = np.zeros(nfree)
-    m = contacts.size
     start_force = contacts.force if contacts.force is not None else np.zeros((m, 3))
     f0 = max(float(np.abs(start_force).max()) if m else 0.0,
              float(np.abs(f_ext).max()) / max(float(lnorm.sum()), 1e-300) if ncell else 0.0)
@@ -245,82 +302,55 @@ def solve_increment(positions, radii, cell, contacts: ContactSet, free: np.ndarr
         merit = float(np.linalg.norm(R * weight))
         return _Eval(u, force, tangent, status, states, R, residual, merit)
 
-    ev = evaluate(x, predictor=True)
-    it = 0
+    def trust(dx):
+        # no contact moves by more than half the skin in one iteration (a mechanism of the
+        # linearized problem would throw grains through each other)
+        du_max = float(np.abs(B_free @ dx).max()) if m else 0.0
+        return dx * (max_move / du_max) if du_max > max_move else dx
+
+    x = vec[cols_free]
+    ev = evaluate(x, predictor=not x.any())
+    it, best, stalled = 0, ev.merit, 0
     while np.isfinite(ev.residual) and ev.residual > rtol and it < max_iterations:
         it += 1
-        # Newton's direction with the consistent tangents; where it has to be damped (a
-        # mechanism of sliding contacts, contacts opening or closing on the way) the direction
-        # of the elastic tangents is tried as well and the better of the two taken.
-        step = None
-        for elastic in (False, True):
-            tan = _elastic_tangents(contacts, ev.status) if elastic else ev.tangent
-            dx = _newton_direction(B_free, _SIGN[None, :, None] * tan, ev.R, dense)
-            if dx is None:
-                continue
-            # trust region: no contact moves by more than half the skin in one iteration (a
-            # mechanism of the linearized problem would throw grains through each other)
-            du_max = float(np.abs(B_free @ dx).max()) if m else 0.0
-            if du_max > max_move:
-                dx *= max_move / du_max
-            alpha = 1.0
-            for _ in range(12):
-                trial = evaluate(x + alpha * dx)
-                if trial.residual <= rtol or trial.merit < (1 - 1e-4 * alpha) * ev.merit:
-                    if step is None or trial.merit < step[1].merit:
-                        step = (x + alpha * dx, trial)
-                    break
-                alpha *= 0.5
-            if step is not None and (alpha == 1.0 or step[1].residual <= rtol):
-                break
+        # Newton's step with the consistent tangents, without its part on the mechanisms;
+        # where the residual is mostly the load on a mechanism, the mechanism is moved to
+        # its next change of status instead. Where the step must be damped (contacts that
+        # start or stop sliding, open or close on the way), the step of the elastic tangents
+        # is tried as well and the better of the two taken: it lets many contacts change
+        # status in one iteration.
+        elastic = _SIGN[None, :, None] * _elastic_tangents(contacts, ev.status)
+        split = newton_direction(B_free, _SIGN[None, :, None] * ev.tangent, elastic, ev.R, dense)
+        if split is None:
+            break
+        dx, z, load = split
+        if np.linalg.norm(load * weight) >= 0.5 * ev.merit:
+            step = along_mechanism(evaluate, B_free, x, ev, z, max_move, rtol)
+        else:
+            step = line_search(evaluate, x, trust(dx), ev, rtol)
+            if step is None or (step[2] < 1.0 and step[1].residual > rtol):
+                split = newton_direction(B_free, elastic, elastic, ev.R, dense)
+                other = None if split is None else line_search(evaluate, x, trust(split[0]), ev,
+                                                               rtol)
+                if other is not None and (step is None or other[1].merit < step[1].merit):
+                    step = other
         if step is None:
             break
-        x, ev = step
-    residual = ev.residual
-    u, force, status, states = ev.u, ev.force, ev.status, ev.states
-    converged = bool(np.isfinite(residual) and residual <= rtol)
-    # the motion of the increment
-    dw = np.zeros(n * d)
-    nfree_grain = n * d - d + n * nr
-    dw[d:] = x[:n * d - d]
-    dtheta = x[n * d - d:nfree_grain].reshape(n, nr)
-    e = np.zeros(len(free))
-    e[~free] = prescribed[~free]
-    e[free] = x[nfree_grain:]
-    dE = np.einsum("k,kab->ab", e, basis(d))[:d, :d]
-    sigma = stress_of(force, contacts.frames, kin.branch, kin.volume, d)
-    contact_work = float(np.sum(force * _SIGN * u))
-    boundary_work = float(-kin.volume * np.sum(sigma * dE))
-    return Outcome(converged, it, residual, states, force, status, u, dw.reshape(n, d), dtheta,
-                   dE, sigma, contact_work, boundary_work)
-
-
-def _newton_direction(B, S, R, dense: bool):
-    """Solve ``(Bᵀ S B + ε I) dx = -R``; ε = 1e-10 max|diag| lets grains without contacts (and
-    free spins) stay where they are without changing the converged solution."""
-    m = S.shape[0]
-    if dense:
-        SB = (S @ B.reshape(m, 3, -1)).reshape(3 * m, -1)
-        J = B.T @ SB
-        diag = np.abs(np.diag(J))
-        J[np.diag_indices_from(J)] += 1e-10 * (diag.max() if diag.size else 1.0)
-        try:
-            dx = np.linalg.solve(J, -R)
-        except np.linalg.LinAlgError:
-            return None
-    else:
-        from .._optional import require
-        sparse = require("scipy.sparse")
-        spla = require("scipy.sparse.linalg")
-        Sm = sparse.bsr_matrix((S, np.arange(m), np.arange(m + 1)), shape=(3 * m, 3 * m))
-        J = (B.T @ (Sm @ B)).tocsc()
-        diag = np.abs(J.diagonal())
-        J = J + sparse.identity(J.shape[0], format="csc") * (1e-10 * (diag.max() if diag.size else 1.0))
-        try:
-            dx = spla.spsolve(J, -R)
-        except RuntimeError:
-            return None
-    return dx if np.all(np.isfinite(dx)) else None
+        changed = np.any(step[1].status != ev.status)
+        x, ev = step[0], step[1]
+        # On a fixed set of sticking, sliding and open contacts Newton converges
+        # quadratically: a merit that has not halved in STALL iterations that change no
+        # status will not reach the tolerance (a limit point); the caller cuts the increment.
+        if ev.merit < 0.5 * best:
+            best, stalled = ev.merit, 0
+        elif not changed:
+            stalled += 1
+            if stalled >= STALL:
+                break
+    vec = np.zeros_like(vec)
+    vec[cols_free] = x
+    vec[cols_pres] = prescribed[~free]
+    return ev, vec, it
 
 
 def move(positions, cell, out: Outcome) -> tuple[np.ndarray, np.ndarray]:

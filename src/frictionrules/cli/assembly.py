@@ -33,13 +33,13 @@ def run(args) -> int:
 
     out = check_output(args.out, (".h5", ".hdf5"))
     figure = check_output(args.figure, FIGURE_SUFFIXES, name="--figure") if args.figure else None
-    assembly, loading = read_config(args.config)
-    with _common.progress(args, "assembly", loading.get("increments", 100), unit="increments") as bar:
+    with _common.progress(args, "assembly", unit="increments") as bar:
+        bar.phase("preparing the sample")
+        assembly, loading = read_config(args.config)
+        bar(0, loading.get("increments", 100))
         result = triaxial(assembly, run_file=out, max_time=args.max_time, progress=bar, **loading)
-    angle = f"{result.peak_friction_angle:.4g} deg" if result.failed else "none (no failure)"
     print(f"{assembly.size} grains, {len(result.converged) - 1} increments ({result.message}); "
-          f"peak σ1/σ3 = {result.peak_ratio:.6g}, friction angle {angle}; final volumetric "
-          f"strain {result.volumetric_strain[-1]:.6g}")
+          f"{_strength(result)}; final volumetric strain {result.volumetric_strain[-1]:.6g}")
     print(f"wrote {out}")
     if figure is not None:
         import matplotlib
@@ -54,4 +54,18 @@ def run(args) -> int:
         write_figure(fig, figure, metadata=_common.metadata(args, model=assembly.model))
         plt.close(fig)
         print(f"wrote {figure}")
-    return 0
+    # a run that stopped at an increment that did not converge did not finish its test
+    return 0 if result.converged[-1] else 1
+
+
+def _strength(result) -> str:
+    """The peak, or how far the run came without one (never an infinite strength)."""
+    if result.failed:
+        return (f"peak σ1/σ3 = {result.peak_ratio:.6g}, friction angle "
+                f"{result.peak_friction_angle:.4g} deg")
+    good = result.converged
+    reached = (f"axial strain {result.axial_strain[good][-1]:.6g} (largest σ1/σ3 "
+               f"{result.stress_ratio[good].max():.6g})")
+    if result.message == "completed":
+        return f"no peak up to {reached}"
+    return f"no peak reached before the run stopped at {reached}"

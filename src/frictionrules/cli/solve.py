@@ -2,14 +2,14 @@
 
 A thin layer over :func:`frictionrules.solve_many`: a folder run writes its table as results
 arrive and resumes from it; ``--workers``/``--scheduler`` spread the problems over a local Dask
-cluster or a running one.
+cluster or a running one. The methods are the solver's table (``multicontact.METHODS``).
+Printed times are each solve's CPU time (and wall time); the start of a cluster and of its
+worker processes is reported apart.
 """
 
 from __future__ import annotations
 
 import argparse
-
-METHOD_CHOICES = ("auto", "nsgs", "newton", "prox", "admm")
 
 
 def _positive_int(text):
@@ -46,8 +46,9 @@ def register(sub) -> None:
                     "converged, why. Exit code 0 when every problem converged, 1 otherwise, 2 on "
                     "bad input.")
     p.add_argument("path", metavar="FILE_OR_DIR", help="an FCLIB .hdf5 file or a folder of them")
-    p.add_argument("--method", default="auto", choices=METHOD_CHOICES,
-                   help="solver (default: auto, chosen from the problem's size and structure)")
+    from ..multicontact import METHODS
+    p.add_argument("--method", default="auto", choices=tuple(METHODS),
+                   help="solver (default: auto); " + "; ".join(f"{m.name}: {m.summary}" for m in METHODS.values()))
     p.add_argument("--tol", type=_tolerance, default=1e-8, help="tolerance on the error (default: 1e-8)")
     p.add_argument("--max-iter", type=_positive_int, default=None,
                    help="iteration limit (default: per method, see docs/multicontact.md)")
@@ -76,26 +77,10 @@ def register(sub) -> None:
 
 
 def _check_output(option: str, path, suffixes) -> None:
-    """Fail before any work if ``path`` has the wrong suffix or its folder cannot be written
-    (``check_output`` of the output layer, then a probe file: /proc passes the permission test
-    but refuses files)."""
-    import os
-    import tempfile
-    from pathlib import Path
-
-    from .._output import check_output
-    from ..errors import FrictionRulesError
+    """Fail before any work if ``path`` has the wrong suffix or its folder cannot be written."""
+    from .._output import check_folder, check_output
     path = check_output(path, suffixes, name=option)
-    folder = path.parent
-    while not folder.exists() and folder != folder.parent:
-        folder = folder.parent
-    try:
-        fd, probe = tempfile.mkstemp(dir=folder, prefix=".frictionrules-probe-")
-        os.close(fd)
-        os.unlink(probe)
-    except OSError as exc:
-        raise FrictionRulesError(f"{option} = {str(Path(path))!r}: cannot write in {str(folder)!r} "
-                                 f"({exc.strerror or type(exc).__name__})") from None
+    check_folder(path.parent, name=option, shown=path)
 
 
 def _row(rec) -> str:
@@ -104,17 +89,22 @@ def _row(rec) -> str:
     flag = "" if rec.converged else f"  (not converged: {rec.reason})"
     method = rec.solution.method if rec.solution is not None else rec.method
     return (f"{rec.name:45s} {rec.contacts:8d} {method:>11s} {rec.iterations:7d} "
-            f"{rec.error:9.2e} {rec.seconds:8.3f}{flag}" + ("  (from --csv)" if rec.resumed else ""))
+            f"{rec.error:9.2e} {rec.cpu_seconds:8.3f} {rec.seconds:8.3f}{flag}"
+            + ("  (from --csv)" if rec.resumed else ""))
 
 
 def run(args) -> int:
     from pathlib import Path
 
+    import shlex
+    import sys
+    import time
+
     from ..parallel import dask_client, local_cluster
     from .._progress import Progress
+    from ..batch import solve_many
     from ..errors import FrictionRulesError
     from ..io import read_fclib
-    from ..multicontact import FrictionContactProblem, solve, solve_many
 
     path = Path(args.path)
     folder = path.is_dir()
@@ -135,12 +125,10 @@ def run(args) -> int:
         Path(args.csv).unlink()
     if not folder:
         read_fclib(path)                    # a bad file is bad input: one line, exit 2
-    # load the compiled kernels once, so that the printed times are the solvers' own
-    solve(FrictionContactProblem([[1.0, 0, 0], [0, 1, 0], [0, 0, 1]], [-1.0, 2.0, 0.0], [0.5]),
-          method=args.method if args.method != "auto" else "nsgs")
 
-    print(f"{'file':45s} {'contacts':>8s} {'method':>11s} {'iter':>7s} {'error':>9s} {'time/s':>8s}",
+    print(f"{'file':45s} {'contacts':>8s} {'method':>11s} {'iter':>7s} {'error':>9s} {'cpu/s':>8s} {'wall/s':>8s}",
           flush=True)
+    command = getattr(args, "command_line", None) or " ".join(shlex.quote(a) for a in sys.argv)
     with Progress("solve", unit="problems") as progress:
         finished = [0]
 
@@ -151,21 +139,25 @@ def run(args) -> int:
             print(_row(rec), flush=True)
 
         save = args.save_solution
+        metadata = {"command": command, "workers": args.workers, "scheduler": args.scheduler}
         kwargs = dict(method=args.method, tol=args.tol, max_iter=args.max_iter,
                       time_limit=args.time_limit, warm_start=args.warm_start, out=args.csv,
-                      on_result=on_result)
+                      on_result=on_result, metadata=metadata)
+        cluster_seconds = None
         if not folder:
             records = _solve_file(path, kwargs, progress, save)
         elif args.workers or args.scheduler:
+            t0 = time.perf_counter()
             context = local_cluster(args.workers) if args.workers else dask_client(args.scheduler)
             with context as client:
+                cluster_seconds = time.perf_counter() - t0
                 records = solve_many(path, executor=client, save_solutions=save, **kwargs)
         else:
             records = solve_many(path, save_solutions=save, **_with_progress(kwargs, progress))
         for rec in records:
             if rec.resumed:
                 print(_row(rec))
-        progress.close(summary_line(records))
+        progress.close(summary_line(records, cluster_seconds))
     if args.csv:
         print(f"wrote {args.csv}")
     if save and not folder:
@@ -173,15 +165,19 @@ def run(args) -> int:
     return 0 if all(r.converged for r in records) else 1
 
 
-def summary_line(records) -> str:
-    """One line: how many problems converged, failed or were unreadable, and the time."""
+def summary_line(records, cluster_seconds=None) -> str:
+    """One line: how many problems converged, failed or were unreadable, the solvers' CPU time
+    and, apart, the start-up of the processes (and of the cluster)."""
     solved = [r for r in records if r.reason != "bad input"]
     conv = sum(r.converged for r in solved)
     bad = len(records) - len(solved)
-    seconds = sum(r.seconds for r in records if not r.resumed)
+    cpu = sum(r.cpu_seconds for r in records if not r.resumed)
+    startup = sum(r.startup_seconds for r in records if not r.resumed)
     resumed = sum(r.resumed for r in records)
-    return (f"{conv} converged, {len(solved) - conv} not converged, {bad} unreadable" + (f", {resumed} from the earlier table" if resumed else "")
-            + f"; {seconds:.2f} s of solver time")
+    return (f"{conv} converged, {len(solved) - conv} not converged, {bad} unreadable"
+            + (f", {resumed} from the earlier table" if resumed else "")
+            + f"; {cpu:.2f} s of solver CPU time; start-up {startup:.2f} s"
+            + (f" (cluster {cluster_seconds:.2f} s)" if cluster_seconds is not None else "") + " apart")
 
 
 def _with_progress(kwargs, progress):
@@ -201,9 +197,9 @@ def _with_progress(kwargs, progress):
 
 def _solve_file(path, kwargs, progress, save):
     """One file, solved here; ``save`` receives its solution."""
+    from ..batch import solve_many
     from ..errors import FrictionRulesError
     from ..io import write_solution
-    from ..multicontact import solve_many
     records = solve_many([path], **_with_progress(dict(kwargs, on_result=None), progress))
     rec = records[0]
     if rec.reason == "bad input":           # e.g. a warm start of the wrong size: exit 2

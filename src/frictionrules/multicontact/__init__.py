@@ -2,19 +2,21 @@
 
 :class:`FrictionContactProblem` holds ``W, q`` and a friction law per contact (Coulomb as in
 FCLIB, or an elliptic orthotropic cone, or a dilatant / non-associated potential);
-:func:`solve` runs ``"auto"``, ``"nsgs"``, ``"newton"``, ``"prox"`` or ``"admm"`` to Siconos'
-error measure (:func:`fc3d_error`), with named options records (:class:`NSGSOptions`,
-:class:`NewtonOptions`, :class:`ProxOptions`, :class:`ADMMOptions`). Numba kernels are
-imported when a solver first runs.
+:func:`solve` runs one of the methods of :data:`METHODS` (``"auto"``, ``"nsgs"``,
+``"newton"``, ``"prox"``, ``"admm"``, ``"polish"``) to Siconos' error measure
+(:func:`fc3d_error`), with named options records (:class:`NSGSOptions`,
+:class:`NewtonOptions`, :class:`ProxOptions`, :class:`ADMMOptions`, :class:`PolishOptions`).
+Numba kernels are imported when a solver first runs. Batches of FCLIB files are solved by
+:func:`frictionrules.batch.solve_many`, above the file layer.
 """
 
-from ._options import ADMMOptions, IterationInfo, NewtonOptions, NSGSOptions, ProxOptions
-from ._many import SolveRecord, solve_many
+from ._methods import METHODS, SolverMethod
+from ._options import ADMMOptions, IterationInfo, NewtonOptions, NSGSOptions, PolishOptions, ProxOptions
 from ._relaxation import RelaxationComparison, compare_relaxation
-from ._solve import METHODS, solve
+from ._solve import solve, thread_limits
 from .error import fc3d_error, project_cone
 from .problem import FrictionContactProblem, Solution
 
 __all__ = ["FrictionContactProblem", "Solution", "solve", "fc3d_error", "project_cone", "METHODS",
-           "NSGSOptions", "NewtonOptions", "ProxOptions", "ADMMOptions", "IterationInfo", "solve_many", "SolveRecord",
-           "compare_relaxation", "RelaxationComparison"]
+           "SolverMethod", "NSGSOptions", "NewtonOptions", "ProxOptions", "ADMMOptions", "PolishOptions",
+           "IterationInfo", "compare_relaxation", "RelaxationComparison", "thread_limits"]

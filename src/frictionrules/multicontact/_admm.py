@@ -69,7 +69,12 @@ class _Factor:
 
 
 class _Anderson:
-    """Type-II Anderson extrapolation of a fixed-point map v -> T(v), memory m."""
+    """Type-II Anderson extrapolation of a fixed-point map v -> T(v), memory m.
+
+    The differences are kept as the columns of two arrays (no stacking per step) and the
+    least-squares coefficients come from the m x m normal equations (O(n m^2); NumPy's lstsq
+    of the n x m system cost a sixth of an iteration on the 3,970-contact pile).
+    """
 
     def __init__(self, m: int):
         self.m = m
@@ -77,23 +82,30 @@ class _Anderson:
 
     def clear(self):
         self.prev_v = self.prev_tv = None
-        self.dG, self.dF = [], []
+        self.dG = self.dF = None
+        self.k = 0
 
     def step(self, v, tv):
         """The extrapolated next iterate from ``v`` and ``T(v)`` (``T(v)`` itself at first)."""
         f = tv - v
         if self.prev_v is not None:
-            self.dG.append(tv - self.prev_tv)
-            self.dF.append(f - (self.prev_tv - self.prev_v))
-            if len(self.dG) > self.m:
-                self.dG.pop(0)
-                self.dF.pop(0)
+            if self.dG is None:
+                self.dG, self.dF = np.empty((self.m, v.size)), np.empty((self.m, v.size))
+            slot = self.k % self.m
+            np.subtract(tv, self.prev_tv, out=self.dG[slot])
+            np.subtract(f, self.prev_tv - self.prev_v, out=self.dF[slot])
+            self.k += 1
         self.prev_v, self.prev_tv = v, tv
-        if not self.dF:
+        used = min(self.k, self.m)
+        if used == 0:
             return tv
-        F = np.stack(self.dF, axis=1)
-        gamma, *_ = np.linalg.lstsq(F, f, rcond=1e-12)
-        out = tv - np.stack(self.dG, axis=1) @ gamma
+        F, G = self.dF[:used], self.dG[:used]
+        A = F @ F.T
+        try:
+            gamma = np.linalg.solve(A + 1e-14 * np.trace(A) * np.eye(used), F @ f)
+        except np.linalg.LinAlgError:
+            return tv
+        out = tv - gamma @ G
         return out if np.all(np.isfinite(out)) else tv
 
 

@@ -13,7 +13,7 @@ import numpy as np
 
 from ..errors import FrictionRulesError, check_scalar
 
-__all__ = ["NSGSOptions", "NewtonOptions", "ProxOptions", "ADMMOptions", "IterationInfo"]
+__all__ = ["NSGSOptions", "NewtonOptions", "ProxOptions", "ADMMOptions", "PolishOptions", "IterationInfo"]
 
 
 def _check(record, positive=(), nonnegative=(), fractions=(), integers=(), counts=()) -> None:
@@ -185,19 +185,40 @@ class ADMMOptions:
         check_scalar("ADMMOptions.ratio_primal_dual", self.ratio_primal_dual, lo=1.0)
 
 
-#: The options record of each method.
-OPTIONS = {"nsgs": NSGSOptions, "newton": NewtonOptions, "prox": ProxOptions, "admm": ADMMOptions}
+@dataclass(frozen=True)
+class PolishOptions:
+    r"""The polish stage (``method="polish"``; the last stage of ``"auto"``): semismooth Newton
+    on De Saxcé's natural map with each contact's piece (open, stick, slip) read from the
+    iterate.
 
+    Attributes
+    ----------
+    contraction, patience : float, int
+        The stage stops (reason ``"stalled"``) when the error has not fallen below
+        ``contraction`` times its last value for ``patience`` consecutive steps: the active set
+        has not settled. On a settled set the error falls quadratically.
+    max_halvings : int
+        Halvings of a step that does not lower Siconos' error before the stage stops.
+    dense_max : int
+        Up to this many unknowns J is factorized dense (LAPACK), SuperLU above.
+    refinement_steps, direction_rtol : int, float
+        Iterative refinement of a direction until its residual is below ``direction_rtol``
+        times the right-hand side.
+    regularization : float
+        :math:`\sigma / \max|J_{ii}|` of the iterated Lavrentiev solve used where J is singular.
+    """
 
-def options_for(method: str, options):
-    """``options`` checked against ``method`` (the method's defaults when None)."""
-    cls = OPTIONS[method]
-    if options is None:
-        return cls()
-    if not isinstance(options, cls):
-        raise FrictionRulesError(f"options = {options!r} does not match method = {method!r}; "
-                                 f"constraint: a {cls.__name__}")
-    return options
+    contraction: float = 0.5
+    patience: int = 3
+    max_halvings: int = 6
+    dense_max: int = 400
+    refinement_steps: int = 8
+    direction_rtol: float = 1e-12
+    regularization: float = 1e-9
+
+    def __post_init__(self):
+        _check(self, positive=("direction_rtol", "regularization"), fractions=("contraction",),
+               integers=("max_halvings", "dense_max", "refinement_steps"), counts=("patience",))
 
 
 @dataclass(frozen=True)

@@ -1,74 +1,75 @@
 r"""``solve(problem, method=...)``: the solvers of :class:`~frictionrules.FrictionContactProblem`.
 
+The methods and their defaults are one table (:data:`._methods.METHODS`):
+
 * ``"nsgs"`` — non-smooth Gauss–Seidel over the contacts with an exact local solver
   (:mod:`._nsgs`); a sweep costs O(nnz(W)).
 * ``"newton"`` — semismooth Newton on the Alart–Curnier function (:mod:`._newton`).
 * ``"prox"`` — proximal point with an inner semismooth Newton (:mod:`._prox`).
 * ``"admm"`` — ADMM with De Saxcé's correction, adaptive penalty and Anderson acceleration
   (:mod:`._admm`); the factorization of :math:`W + \rho I` is kept while :math:`\rho` is.
-* ``"auto"`` — a choice from the problem's size and structure (:func:`auto_plan`).
+* ``"polish"`` — semismooth Newton on the natural map from a settled active set (:mod:`._polish`).
+* ``"auto"`` — first-order stages chosen from the problem's size, then the polish
+  (:func:`_run_auto`).
 
 Every method stops when Siconos' error (:func:`.error.fc3d_error`) is at most ``tol``, at
 ``max_iter``, at ``time_limit``, when the callback asks, or when the reactions grow without
-bound; :attr:`Solution.reason` says which. BLAS runs on ``blas_threads`` threads inside the
-solver (threadpoolctl): with other jobs on the machine, threaded BLAS made the dense-LU path
-10–30 times slower on small problems.
+bound; :attr:`Solution.reason` says which. The whole call, from the problem's frame to the
+final error, runs with BLAS and OpenMP limited to ``blas_threads`` threads (threadpoolctl):
+with other jobs on the machine, threaded BLAS made the dense-LU path 10–30 times slower on
+small problems and its times meaningless. Problems of at most :data:`._small.SMALL_MAX`
+contacts solved by ``nsgs``, ``polish`` or ``auto`` take the compiled small-problem path
+(:mod:`._small`).
 """
 
 from __future__ import annotations
 
 import functools
-from dataclasses import dataclass
+import time
 
 import numpy as np
 
 from ..errors import FrictionRulesError, check_finite, check_scalar
-from ._admm import run_admm
 from ._frame import _Frame, _Monitor
-from ._newton import run_newton
-from ._nsgs import run_nsgs
-from ._options import options_for
-from ._prox import run_prox
+from ._methods import METHODS, check_method, options_for
 from .problem import FrictionContactProblem, Solution
 
 __all__ = ["solve", "METHODS"]
 
-#: Method names accepted by :func:`solve`, with their default ``max_iter`` (for ``"auto"``,
-#: the iterations of all its stages together).
-METHODS = {"auto": 100000, "nsgs": 100000, "newton": 200, "prox": 200, "admm": 5000}
-
-_RUN = {"nsgs": run_nsgs, "newton": run_newton, "prox": run_prox, "admm": run_admm}
-
-
-@dataclass(frozen=True)
-class _Stage:
-    """One stage of ``"auto"``: ``method`` until ``tol`` (the caller's when None) or
-    ``max_iter``, from the last stage's answer or, with ``restart``, from the initial one."""
-
-    method: str
-    tol: float | None
-    max_iter: int
-    restart: bool = False
-
-
-#: ``"auto"`` (docs/multicontact.md, "Choosing a method", has the measurements): first at most
-#: ``_AUTO_PROBE`` NSGS sweeps (they cost O(nnz(W)) each and solve the easy problems: CubeH8,
-#: the LMGC cube, PerioBox and Box_Stacks in 1-34 sweeps); then, up to ``_AUTO_PROX_MAX``
-#: contacts, prox from the initial reactions (the one method that reached 1e-8 on every shared
-#: file of up to 570 contacts, fastest or within 2.5 times the fastest on each; started from
-#: the probe's answer instead it did not reach 1e-4 in 30 s on Capsules and spheres-in-a-box,
-#: its proximal schedule being tuned for a start from zero); beyond, NSGS goes on (on
-#: the piles of 1,264-1,812 contacts prox and newton did not reach 1e-4 within 60 s, ADMM
-#: reached 7e-4, NSGS 1e-4 in 3,000 sweeps).
-_AUTO_PROBE, _AUTO_PROX_MAX = 50, 1000
+#: ``"auto"`` (docs/multicontact.md, "Choosing a method", has the measurements): first
+#: ``_AUTO_PROBE_FIRST`` NSGS sweeps, and more (up to ``_AUTO_PROBE`` in all) when their linear
+#: rate predicts the tolerance within them (sweeps cost O(nnz(W)) each and solve the easy
+#: problems: CubeH8, the LMGC cube, PerioBox and Box_Stacks in 1-34 sweeps). Then, up to ``_AUTO_PROX_MAX``
+#: contacts, ADMM from the probe's answer to each error of ``_AUTO_ADMM_LEVELS`` (at most ``_AUTO_ADMM_BUDGET``
+#: iterations in all), the polish after each: from an ADMM iterate at 1e-4-1e-6 one to three
+#: Newton steps reach 1e-15 on KaplasTower, Spheres, Box_Stacks and local_problem_test. Where
+#: the polish stalls (PerioBox, Capsules, spheres-in-a-box: the active set has not settled),
+#: prox from the initial reactions (the one method that reached 1e-8 on every shared file of
+#: up to 570 contacts; started from another answer its proximal schedule, tuned for a start
+#: from zero, did not reach 1e-4 in 30 s on Capsules and spheres-in-a-box), and the polish.
+#: Beyond ``_AUTO_PROX_MAX`` contacts NSGS goes on (on the piles of 1,264-3,970 contacts
+#: prox and newton did not reach 1e-4 within 60 s, ADMM needed more iterations than NSGS
+#: sweeps, each 5-10 times dearer), the polish trying whenever the sweeps' error has fallen
+#: by ``_AUTO_POLISH_STEP`` since its last try (first at ``_AUTO_POLISH_FROM``).
+_AUTO_PROBE, _AUTO_PROBE_FIRST, _AUTO_PROX_MAX = 50, 10, 1000
+_AUTO_ADMM_LEVELS, _AUTO_ADMM_BUDGET = (1e-4, 1e-6), 400
+_AUTO_POLISH_FROM, _AUTO_POLISH_STEP = 1e-6, 1e-2
+#: ADMM starts from the probe's answer. Measured (CPU to 1e-8 with the polish): from the
+#: probe's answer Spheres 0.007 s and KaplasTower 0.087 s, from zero 0.011 s and 0.062 s, from
+#: zero with ``ADMMOptions(rho_power=0.1, rho_update_every=10)`` 0.017 s and 0.036 s; no start
+#: and schedule is best on every file.
 
 
-def auto_plan(fr: _Frame, tol: float) -> tuple[_Stage, ...]:
-    """The stages ``"auto"`` runs on a problem (see the module constants)."""
-    probe = _Stage("nsgs", None, _AUTO_PROBE)
-    if fr.nc <= _AUTO_PROX_MAX:
-        return (probe, _Stage("prox", None, METHODS["prox"], restart=True))
-    return (probe, _Stage("nsgs", None, METHODS["nsgs"]))
+#: The compiled small-problem path (:mod:`._small`, imported with Numba on first use): problems
+#: of at most SMALL_MAX contacts, with these methods, no callback and no time limit.
+SMALL_MAX, SMALL_MODES = 16, ("nsgs", "polish", "auto")
+
+
+@functools.cache
+def _small_path():
+    from . import _small
+    assert _small.SMALL_MAX == SMALL_MAX and tuple(_small.MODES) == SMALL_MODES
+    return _small
 
 
 def _initial(problem, fr: _Frame, r0):
@@ -84,23 +85,45 @@ def _initial(problem, fr: _Frame, r0):
     return np.ascontiguousarray(r)
 
 
-@functools.lru_cache(maxsize=1)
-def _blas_controller():
-    """threadpoolctl's view of the loaded BLAS libraries, found once per process (a fresh
-    ``threadpool_limits`` scans every loaded library: 14 ms a call, measured on 2 busy cores)."""
+@functools.lru_cache(maxsize=None)
+def _thread_controller(_loaded: frozenset):
+    """threadpoolctl's controller of the BLAS and OpenMP libraries loaded now, found once per
+    set of loaded libraries (a scan costs 14 ms on 2 busy cores). SciPy's own BLAS (loaded by
+    ``scipy.linalg``, another library than NumPy's) is loaded first, so that it is limited too."""
     from .._optional import require
-    return require("threadpoolctl", extra="solvers").ThreadpoolController().select(user_api="blas")
+    return require("threadpoolctl", extra="solvers").ThreadpoolController()
 
 
-def _blas_limits(threads):
-    """A context limiting BLAS to ``threads`` threads (None, or BLAS already within: nothing)."""
+def thread_limits(threads):
+    """A context limiting every BLAS and OpenMP library in the process to ``threads`` threads
+    (None: nothing), for the whole of a solve (SciPy's factorizations included)."""
     import contextlib
+    import sys
     if threads is None:
         return contextlib.nullcontext()
-    blas = _blas_controller()
-    if all(lib["num_threads"] <= threads for lib in blas.info()):
+    import scipy.linalg  # noqa: F401  (SciPy's BLAS, so that it is in the controller)
+    loaded = frozenset(name for name in ("numpy", "scipy.linalg", "sklearn", "torch", "mkl")
+                       if name in sys.modules)
+    ctl = _thread_controller(loaded)
+    if all(lib["num_threads"] <= threads for lib in ctl.info()):
         return contextlib.nullcontext()
-    return blas.limit(limits=threads)
+    return ctl.limit(limits=threads)
+
+
+def _check(problem, method, tol, max_iter, time_limit, blas_threads, callback, options):
+    if not isinstance(problem, FrictionContactProblem):
+        raise FrictionRulesError(f"problem = {problem!r} is not a FrictionContactProblem")
+    entry = check_method(method)
+    if not (type(tol) is float and tol >= 0.0 and tol != np.inf):    # the common case costs nothing
+        tol = check_scalar("tol", tol, lo=0.0)
+    max_iter = entry.max_iter if max_iter is None else int(check_scalar("max_iter", max_iter, lo=1))
+    if time_limit is not None:
+        time_limit = check_scalar("time_limit", time_limit, lo=0.0, lo_open=True)
+    if blas_threads is not None and not (type(blas_threads) is int and blas_threads >= 1):
+        blas_threads = int(check_scalar("blas_threads", blas_threads, lo=1))
+    if callback is not None and not callable(callback):
+        raise FrictionRulesError(f"callback = {callback!r} is not callable")
+    return tol, max_iter, time_limit, blas_threads, options_for(method, options)
 
 
 def solve(problem: FrictionContactProblem, method: str = "auto", tol: float = 1e-8,
@@ -111,16 +134,16 @@ def solve(problem: FrictionContactProblem, method: str = "auto", tol: float = 1e
     Parameters
     ----------
     problem : FrictionContactProblem
-    method : {"auto", "nsgs", "newton", "prox", "admm"}
+    method : {"auto", "nsgs", "newton", "prox", "admm", "polish"}
         See the module docstring; ``"auto"`` chooses from the problem's size and structure.
     tol : float
         Stop when :func:`~frictionrules.multicontact.fc3d_error` ``<= tol``.
     max_iter : int, optional
-        Sweeps (nsgs), Newton iterations (newton), outer proximal iterations (prox), ADMM
-        iterations (admm), all stages together (auto); defaults ``METHODS[method]``.
+        Sweeps (nsgs), Newton iterations (newton, polish), outer proximal iterations (prox),
+        ADMM iterations (admm), all stages together (auto); defaults ``METHODS[method].max_iter``.
     r0 : (3 nc,) array, optional
         Initial reactions (zero by default), e.g. a previous solution or an FCLIB file's guess.
-    options : NSGSOptions, NewtonOptions, ProxOptions or ADMMOptions, optional
+    options : NSGSOptions, NewtonOptions, ProxOptions, ADMMOptions or PolishOptions, optional
         The schedule of ``method`` (its defaults when omitted; not with ``"auto"``).
     callback : callable, optional
         ``callback(info)`` with an :class:`~frictionrules.IterationInfo` after every iteration
@@ -130,45 +153,39 @@ def solve(problem: FrictionContactProblem, method: str = "auto", tol: float = 1e
         Wall-clock seconds; the run stops after the iteration that passes it (reason
         ``"time_limit"``).
     blas_threads : int or None
-        BLAS threads inside the solver (threadpoolctl); None leaves BLAS as it is.
+        BLAS and OpenMP threads during the whole call (threadpoolctl); None leaves them.
 
     Returns
     -------
     Solution
         ``converged`` is ``error <= tol`` with bounded reactions; ``reason`` says why the run
-        stopped; ``history[k]`` the error after iteration ``history_iterations[k]``.
+        stopped; ``history[k]`` the error after iteration ``history_iterations[k]``;
+        ``seconds`` and ``cpu_seconds`` the wall and CPU time of the call.
     """
-    import time
-    if not isinstance(problem, FrictionContactProblem):
-        raise FrictionRulesError(f"problem = {problem!r} is not a FrictionContactProblem")
-    if method not in METHODS:
-        raise FrictionRulesError(f"method = {method!r}; constraint: one of {sorted(METHODS)}")
-    tol = check_scalar("tol", tol, lo=0.0)
-    max_iter = METHODS[method] if max_iter is None else int(check_scalar("max_iter", max_iter, lo=1))
-    if time_limit is not None:
-        time_limit = check_scalar("time_limit", time_limit, lo=0.0, lo_open=True)
-    if blas_threads is not None:
-        blas_threads = int(check_scalar("blas_threads", blas_threads, lo=1))
-    if callback is not None and not callable(callback):
-        raise FrictionRulesError(f"callback = {callback!r} is not callable")
-    if method == "auto" and options is not None:
-        raise FrictionRulesError("options: constraint: none with method = 'auto' (name a method)")
-    opts = None if method == "auto" else options_for(method, options)
-    fr = _Frame(problem)
-    r = _initial(problem, fr, r0)
-    t0 = time.perf_counter()
-    with _blas_limits(blas_threads):
+    tol, max_iter, time_limit, blas_threads, opts = _check(problem, method, tol, max_iter, time_limit,
+                                                           blas_threads, callback, options)
+    t0, c0 = time.perf_counter(), time.thread_time()
+    if (problem.nc <= SMALL_MAX and method in SMALL_MODES and problem.frames is None
+            and callback is None and time_limit is None):
+        r, u, err, it, hist, hist_it, ran, reason = _solve_small(problem, method, tol, max_iter, r0, opts,
+                                                                 _small_path())
+        if reason == "converged" or method != "auto":
+            return Solution(r=r, u=u, error=err, iterations=it, converged=reason == "converged", history=hist,
+                            history_iterations=hist_it, method=ran, seconds=time.perf_counter() - t0,
+                            reason=reason, cpu_seconds=time.thread_time() - c0)
+    with thread_limits(blas_threads):
+        fr = _Frame(problem)
+        r = _initial(problem, fr, r0)
         mon = _Monitor(fr, tol, time_limit, callback)
         if method == "auto":
             r, it, ran = _run_auto(fr, r, tol, max_iter, mon)
         else:
             r, it = _run(method, fr, r, max_iter, mon, opts)
             ran = method
-    seconds = time.perf_counter() - t0
-    r = r if fr.P is None else fr.P @ r
-    u = problem.velocity(r)
-    from .error import fc3d_error
-    err = fc3d_error(problem, r, u)
+        r = r if fr.P is None else fr.P @ r
+        u = problem.velocity(r)
+        from .error import fc3d_error
+        err = fc3d_error(problem, r, u)
     bounded = bool(np.linalg.norm(r) <= fr.r_bound)
     reason = mon.reason or "max_iter"
     if err <= tol and bounded:
@@ -177,36 +194,106 @@ def solve(problem: FrictionContactProblem, method: str = "auto", tol: float = 1e
         reason = "max_iter" if bounded else "unbounded"
     return Solution(r=r, u=u, error=err, iterations=int(it), converged=reason == "converged",
                     history=np.array(mon.errors), history_iterations=np.array(mon.iterations, dtype=int),
-                    method=ran, seconds=seconds, reason=reason)
+                    method=ran, seconds=time.perf_counter() - t0, reason=reason,
+                    cpu_seconds=time.thread_time() - c0)
+
+
+def _solve_small(problem, method, tol, max_iter, r0, opts, small):
+    """The compiled small-problem path (:mod:`._small`): ``(r, u, error, iterations, history,
+    history_iterations, stages, reason)``."""
+    W = problem.W
+    r = np.zeros(3 * problem.nc) if r0 is None else check_finite("r0", r0).ravel().astype(float)
+    if r.size != 3 * problem.nc:
+        raise FrictionRulesError(f"r0 has {r.size} entries; constraint: 3 nc = {3 * problem.nc}")
+    polish = opts if method == "polish" else small.POLISH_DEFAULTS
+    it, err, u, bounded, hist, hist_it, stages = small.small_solve(
+        W.indptr, W.indices, W.data, problem.q, problem.mu_bar, problem.dilatancy, r, tol, max_iter,
+        small.MODES[method], polish.contraction, polish.patience, polish.max_halvings, small.UNBOUNDED)
+    if not bounded:
+        reason = "unbounded"
+    elif err <= tol:
+        reason = "converged"
+    else:
+        reason = "stalled" if method == "polish" and it < max_iter else "max_iter"
+    return r, u, err, it, hist, hist_it, small.stage_names(small.MODES[method], stages), reason
 
 
 def _run(method, fr, r, max_iter, mon, opts):
     if method == "nsgs":
         r = np.array(r, dtype=float)
-        return r, run_nsgs(fr, r, max_iter, mon, opts)
+        return r, METHODS["nsgs"].run(fr, r, max_iter, mon, opts)
     if fr.error(r) <= mon.tol:
         mon.record(method, 0, r, fr.error(r))
         return r, 0
-    return _RUN[method](fr, r, max_iter, mon, opts)
+    return METHODS[method].run(fr, r, max_iter, mon, opts)
+
+
+def _stage(method, fr, r, tol, budget, mon, total):
+    """One stage of ``auto`` to ``tol`` within ``budget`` iterations; returns ``(r, iterations)``."""
+    mon.tol, mon.reason, mon.offset = tol, "", total
+    return _run(method, fr, r, budget, mon, options_for(method, None))
+
+
+def _predicted_sweeps(mon, tol) -> float:
+    """Sweeps still needed to ``tol`` at the linear rate of the last two evaluated errors."""
+    e, k = mon.errors[-2:], mon.iterations[-2:]
+    if len(e) < 2 or not 0.0 < e[1] < e[0] or k[1] <= k[0]:
+        return np.inf
+    return np.log(tol / e[1]) / (np.log(e[1] / e[0]) / (k[1] - k[0]))
 
 
 def _run_auto(fr, r, tol, max_iter, mon):
-    """The stages of :func:`auto_plan`, each warm-started from the last; returns
-    ``(r, iterations, "stage+stage")``."""
-    total, ran, start = 0, [], r.copy()
-    for stage in auto_plan(fr, tol):
-        budget = min(stage.max_iter, max_iter - total)
+    """The stages of ``"auto"`` (see the module constants), each from the last one's answer;
+    returns ``(r, iterations, "stage+stage...")``."""
+    start, total, ran = r.copy(), 0, []
+
+    def run(method, r, stage_tol, budget):
+        nonlocal total
+        budget = min(budget, max_iter - total)
         if budget <= 0:
-            break
-        mon.tol = tol if stage.tol is None else stage.tol
-        mon.reason, mon.offset = "", total
-        r, it = _run(stage.method, fr, start.copy() if stage.restart else r, budget, mon,
-                     options_for(stage.method, None))
+            return r, True
+        r, it = _stage(method, fr, r, stage_tol, budget, mon, total)
         total += it
-        ran.append(stage.method)
-        if mon.reason in ("time_limit", "callback", "unbounded") or (mon.reason == "converged" and mon.tol <= tol):
+        if not ran or ran[-1] != method:    # the probe's extensions are one NSGS stage
+            ran.append(method)
+        stop = mon.reason in ("time_limit", "callback", "unbounded") or (mon.reason == "converged" and stage_tol <= tol)
+        return r, stop
+
+    def polish(r):
+        r_new, stop = run("polish", r.copy(), tol, METHODS["polish"].max_iter)
+        better = fr.error(r_new) < fr.error(r)
+        return (r_new if better else r), stop
+
+    r, stop = run("nsgs", r, tol, _AUTO_PROBE_FIRST)
+    while not stop and mon.reason != "converged":
+        more = _predicted_sweeps(mon, tol)
+        if more > _AUTO_PROBE - total:
             break
+        r, stop = run("nsgs", r, tol, min(int(1.5 * more) + 2, _AUTO_PROBE - total))
+    if not stop and fr.nc <= _AUTO_PROX_MAX:
+        spent = total
+        for level in _AUTO_ADMM_LEVELS:
+            r, stop = run("admm", r, max(tol, level), _AUTO_ADMM_BUDGET - (total - spent))
+            if stop or mon.reason != "converged":
+                break
+            r, stop = polish(r)
+            if stop:
+                break
+        if not stop:
+            r, stop = run("prox", start.copy(), tol, METHODS["prox"].max_iter)
+        if not stop:
+            r, stop = polish(r)
+    level = max(tol, _AUTO_POLISH_FROM)
+    while not stop and fr.nc > _AUTO_PROX_MAX:
+        r, stop = run("nsgs", r, level, max_iter)
+        if stop:
+            break
+        reached = mon.reason == "converged"
+        r, stop = polish(r)
+        if not reached:                     # the sweeps' budget is spent
+            break
+        level = max(tol, level * _AUTO_POLISH_STEP)
     mon.tol = tol
-    if mon.reason == "converged" and mon.errors and mon.errors[-1] > tol:
+    if mon.reason in ("converged", "stalled") and (not mon.errors or mon.errors[-1] > tol):
         mon.reason = "max_iter"
     return r, total, "+".join(ran)

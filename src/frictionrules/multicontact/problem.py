@@ -258,9 +258,10 @@ class Solution:
         ``error <= tol`` (and the reactions bounded: see ``reason``).
     reason : str
         Why the run stopped: ``"converged"``, ``"max_iter"``, ``"time_limit"``,
-        ``"callback"`` (the callback asked to stop) or ``"unbounded"`` (the reactions grow
-        without bound: no bounded solution, an infeasible problem). Only ``"converged"`` has
-        ``converged`` true.
+        ``"callback"`` (the callback asked to stop), ``"unbounded"`` (the reactions grow
+        without bound: no bounded solution, an infeasible problem) or ``"stalled"`` (the
+        polish found no step lowering the error: the active set has not settled). Only
+        ``"converged"`` has ``converged`` true.
     history : array
         Error after the iterations ``history_iterations`` (every iteration for ``newton`` and
         ``prox``; the sweeps where NSGS evaluated it).
@@ -268,7 +269,11 @@ class Solution:
     method : str
         The method that ran (for ``"auto"``, the stages joined by ``+``, e.g. ``"nsgs+prox"``).
     seconds : float
-        Wall time of the solver (compilation of the kernels excluded when cached).
+        Wall time of the call (compilation of the kernels excluded when cached).
+    cpu_seconds : float
+        CPU time of the call in the calling thread (``time.thread_time``): the solver's own
+        work, BLAS included (it runs in that thread under ``blas_threads=1``), other jobs on
+        the machine and other threads of the process excluded.
     """
 
     r: np.ndarray
@@ -281,3 +286,4 @@ class Solution:
     method: str = ""
     seconds: float = 0.0
     reason: str = ""
+    cpu_seconds: float = 0.0

@@ -1,0 +1,184 @@
+r"""The small-problem path of :func:`~frictionrules.solve`: up to :data:`SMALL_MAX` contacts,
+the whole solve in one compiled call.
+
+A physics step, a calibration or a sweep over thousands of small problems pays a solver's
+set-up at every call; here the set-up (diagonal blocks, norms), the iterations and the final
+error run inside one Numba function on W's CSR arrays, so that a call costs the Python
+argument checks, one compiled call and the :class:`Solution` record (``benchmarks/fclib.py``
+measures it). ``nsgs`` runs the same sweeps as the general path; ``polish`` and ``auto`` take
+dense Newton steps on the natural map (:func:`._kernels.natural_map`) with NumPy's least-squares
+solve (the minimum-norm step where J is singular). ``auto`` runs at most ``AUTO_PROBE`` sweeps,
+the polish, then sweeps to the end of its budget and the polish again.
+"""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+
+from .._optional import require
+from . import _kernels as K
+from ._frame import UNBOUNDED
+from ._options import PolishOptions
+
+njit = require("numba", extra="kernels").njit
+
+#: Largest number of contacts solved by the small path.
+SMALL_MAX = 16
+#: Sweeps before the first polish of ``auto`` (the general path's probe).
+AUTO_PROBE = 50
+#: Modes of :func:`small_solve`, and the stages ``auto`` may run.
+MODES = {"nsgs": 0, "polish": 1, "auto": 2}
+STAGES = ("nsgs", "polish")
+#: The polish schedule of ``auto`` on this path.
+POLISH_DEFAULTS = PolishOptions()
+
+
+@njit(cache=True)
+def _error(indptr, indices, data, q, mu, dil, r, norm_q):
+    err, u = K.fc3d_error_kernel(indptr, indices, data, q, mu, dil, r, norm_q)
+    return err, u
+
+
+@njit(cache=True)
+def _polish(indptr, indices, data, q, mu, dil, r, tol, max_iter, norm_q, hist_err, hist_it, nh, offset,
+            contraction, patience, max_halvings):
+    """Dense Newton steps on the natural map (see :mod:`._polish`); returns ``(steps, error, nh)``."""
+    nc = mu.size
+    n = 3 * nc
+    Wd = np.zeros((n, n))
+    for i in range(n):
+        for k in range(indptr[i], indptr[i + 1]):
+            Wd[i, indices[k]] += data[k]
+    D = K.diagonal_blocks(indptr, indices, data, nc)
+    rho = np.empty(nc)
+    for a in range(nc):
+        tr = abs(D[a, 0, 0] + D[a, 1, 1] + D[a, 2, 2]) / 3.0
+        rho[a] = 1.0 / tr if tr > 0.0 else 1.0
+    err, u = _error(indptr, indices, data, q, mu, dil, r, norm_q)
+    if max_iter <= 0 or err <= tol:
+        return 0, err, nh
+    J = np.empty((n, n))
+    slow = 0
+    it = 0
+    while it < max_iter and err > tol:
+        phi, B1, B2, pieces = K.natural_map(r, u, mu, dil, rho)
+        for a in range(nc):
+            for l in range(3):
+                row = 3 * a + l
+                for j in range(n):
+                    J[row, j] = (B2[a, l, 0] * Wd[3 * a, j] + B2[a, l, 1] * Wd[3 * a + 1, j]
+                                 + B2[a, l, 2] * Wd[3 * a + 2, j])
+                for c in range(3):
+                    J[row, 3 * a + c] += B1[a, l, c]
+        dx = np.linalg.lstsq(J, -phi, -1.0)[0]
+        alpha = 1.0
+        accepted = False
+        for _ in range(max_halvings + 1):
+            rn = r + alpha * dx
+            en, un = _error(indptr, indices, data, q, mu, dil, rn, norm_q)
+            if en < err:
+                accepted = True
+                break
+            alpha *= 0.5
+        if not accepted:
+            break
+        it += 1
+        slow = slow + 1 if en > contraction * err else 0
+        r[:] = rn
+        u, err = un, en
+        hist_err[nh] = err
+        hist_it[nh] = offset + it
+        nh += 1
+        if slow >= patience:
+            break
+    return it, err, nh
+
+
+#: Sweeps per compiled chunk of the small path (its history buffer).
+CHUNK = 256
+
+
+@njit(cache=True)
+def _grow(h_err, h_it, nh, extra):
+    """History buffers with room for ``extra`` more entries after the first ``nh``."""
+    if nh + extra <= h_err.size:
+        return h_err, h_it
+    size = max(2 * h_err.size, nh + extra)
+    e, i = np.empty(size), np.empty(size, dtype=np.int64)
+    e[:nh], i[:nh] = h_err[:nh], h_it[:nh]
+    return e, i
+
+
+@njit(cache=True)
+def _sweeps(indptr, indices, data, D, q, mu, dil, r, tol, budget, norm_q, h_err, h_it, nh, offset):
+    """NSGS in chunks of :data:`CHUNK` sweeps; returns ``(sweeps, error, h_err, h_it, nh)``."""
+    done, err = 0, np.inf
+    while done < budget:
+        n = min(CHUNK, budget - done)
+        h_err, h_it = _grow(h_err, h_it, nh, n)
+        it, err, k = K.nsgs(indptr, indices, data, D, q, mu, dil, r, tol, n, h_err[nh:], h_it[nh:], norm_q, 16)
+        for j in range(nh, nh + k):
+            h_it[j] += offset + done
+        nh += k
+        done += it
+        if err <= tol:
+            break
+    return done, err, h_err, h_it, nh
+
+
+@njit(cache=True)
+def small_solve(indptr, indices, data, q, mu, dil, r, tol, max_iter, mode, contraction, patience, max_halvings,
+                r_bound_factor):
+    """Solve in place from ``r``: mode 0 nsgs, 1 polish, 2 auto (see the module docstring).
+
+    Returns ``(iterations, error, u, bounded, history errors, history iterations, stages)``;
+    ``stages`` is the number of stages run (they alternate from nsgs, or are one polish in
+    mode 1: see :func:`stage_names`); ``bounded``
+    whether the reactions are within ``r_bound_factor`` times |q| over the mean |W_ii|.
+    """
+    nc = mu.size
+    norm_q = np.sqrt(np.sum(q * q))
+    h_err = np.empty(CHUNK + 4)
+    h_it = np.empty(CHUNK + 4, dtype=np.int64)
+    D = K.diagonal_blocks(indptr, indices, data, nc)
+    nh, done, err = 0, 0, np.inf
+    ns = 0
+    budget = max_iter if mode != 2 else min(AUTO_PROBE, max_iter)
+    stage = 0 if mode != 1 else 1
+    while ns < 4:
+        if stage == 0:
+            it, err, h_err, h_it, nh = _sweeps(indptr, indices, data, D, q, mu, dil, r, tol, budget, norm_q,
+                                               h_err, h_it, nh, done)
+        else:
+            h_err, h_it = _grow(h_err, h_it, nh, budget)
+            it, err, k = _polish(indptr, indices, data, q, mu, dil, r, tol, budget, norm_q, h_err, h_it, nh,
+                                 done, contraction, patience, max_halvings)
+            if k == nh:                     # no step taken: the error of r as it is
+                h_err[nh], h_it[nh], k = err, done, nh + 1
+            nh = k
+        ns += 1
+        done += it
+        budget = max_iter - done
+        if mode != 2 or err <= tol or budget <= 0:
+            break
+        stage = 1 - stage
+    err, u = _error(indptr, indices, data, q, mu, dil, r, norm_q)
+    mean_diag, count = 0.0, 0
+    for a in range(nc):
+        for l in range(3):
+            if D[a, l, l] != 0.0:
+                mean_diag += abs(D[a, l, l])
+                count += 1
+    mean_diag = mean_diag / count if count else 1.0
+    bounded = np.sqrt(np.sum(r * r)) <= r_bound_factor * max(norm_q, 1e-300) / mean_diag
+    return done, err, u, bounded, h_err[:nh], h_it[:nh], ns
+
+
+@functools.cache
+def stage_names(mode: int, count: int) -> str:
+    """``Solution.method`` of a small-path run: ``count`` stages of ``mode``."""
+    if mode == MODES["polish"]:
+        return "polish"
+    return "+".join(STAGES[k % 2] for k in range(count))

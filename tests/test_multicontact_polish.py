@@ -1,0 +1,259 @@
+"""The polish stage and what surrounds it: semismooth Newton on De Saxcé's natural map from a
+settled active set (hand-made problems with a known active set, the small shared files), the
+answer of ``auto`` never called converged above the tolerance, the compiled small-problem
+path, the table of methods, thread limits over the whole solve, and the times and columns of
+``solve_many``'s table."""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+import csv
+import multiprocessing
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from frictionrules import (FrictionContactProblem, PolishOptions, read_fclib, solve, solve_many,
+                           write_fclib)
+from frictionrules.batch import CSV_HEADER
+from frictionrules.multicontact import METHODS, fc3d_error
+from test_io import FCLIB, needs_fclib
+from test_multicontact import cone_violation
+
+
+def known_active_set(seed: int, pieces=("stick", "slip", "open", "slip", "stick", "open")):
+    r"""A coupled problem built around a chosen solution: per contact ``r*``, ``u*`` obey
+    Coulomb's law in the chosen regime (stick: :math:`u = 0`, :math:`|r_T| < \mu r_N`; slip:
+    :math:`r = r_N(1, -\mu e)`, :math:`u = (0, s e)`; open: :math:`r = 0`, :math:`u_N > 0`),
+    W is symmetric positive definite and :math:`q = u^* - W r^*`. Returns the problem and r*."""
+    rng = np.random.default_rng(seed)
+    nc = len(pieces)
+    mu = rng.uniform(0.2, 0.8, nc)
+    r, u = np.zeros((nc, 3)), np.zeros((nc, 3))
+    for a, kind in enumerate(pieces):
+        e = rng.normal(size=2)
+        e /= np.linalg.norm(e)
+        if kind == "stick":
+            r[a] = [rng.uniform(0.5, 2.0), *(0.5 * mu[a] * e)]
+            r[a, 1:] *= r[a, 0]
+        elif kind == "slip":
+            rn = rng.uniform(0.5, 2.0)
+            r[a] = [rn, *(-mu[a] * rn * e)]
+            u[a, 1:] = rng.uniform(0.2, 1.0) * e
+        else:
+            u[a] = [rng.uniform(0.2, 1.0), *rng.normal(size=2)]
+    A = rng.normal(size=(3 * nc, 3 * nc))
+    W = A @ A.T / (3 * nc) + np.eye(3 * nc)
+    q = u.ravel() - W @ r.ravel()
+    return FrictionContactProblem(W, q, mu), r.ravel()
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_polish_recovers_a_known_active_set_quadratically(seed):
+    """From a perturbation of the built solution r*, the polish returns r* to rounding, and its
+    errors fall quadratically (e_{k+1} <= C e_k^2 once e_k < 1e-3)."""
+    p, r_star = known_active_set(seed)
+    start = r_star + 1e-3 * np.random.default_rng(seed + 10).normal(size=r_star.size)
+    s = solve(p, method="polish", r0=start, tol=1e-14)
+    assert s.converged and s.error <= 1e-14 and s.method == "polish"
+    np.testing.assert_allclose(s.r, r_star, atol=1e-12)
+    e = s.history
+    assert s.iterations <= 6
+    for a, b in zip(e[:-1], e[1:]):
+        if 1e-12 < a < 1e-3:
+            assert b <= 10.0 * a * a
+
+
+def test_polish_pieces_are_the_regimes_of_the_solution():
+    from frictionrules.multicontact import _kernels as K
+    kinds = ("stick", "slip", "open", "slip", "stick", "open")
+    p, r_star = known_active_set(7, kinds)
+    u = p.W @ r_star + p.q
+    phi, _B1, _B2, pieces = K.natural_map(r_star, u, p.mu_bar, p.dilatancy, np.ones(p.nc))
+    assert [("open", "stick", "slip")[k] for k in pieces] == list(kinds)
+    np.testing.assert_allclose(phi, 0.0, atol=1e-14)
+
+
+def test_polish_jacobian_matches_finite_differences():
+    """J = B1 + B2 W of the natural map against central differences at a point where every
+    contact is strictly inside its piece."""
+    from frictionrules.multicontact import _kernels as K
+    p, r_star = known_active_set(3)
+    r = r_star + 1e-4 * np.random.default_rng(0).normal(size=r_star.size)
+    rho = np.full(p.nc, 0.7)
+    W = p.W.toarray()
+
+    def phi(x):
+        return K.natural_map(x, W @ x + p.q, p.mu_bar, p.dilatancy, rho)[0]
+
+    _phi, B1, B2, _ = K.natural_map(r, W @ r + p.q, p.mu_bar, p.dilatancy, rho)
+    n = r.size
+    J = np.zeros((n, n))
+    for a in range(p.nc):
+        J[3 * a:3 * a + 3, 3 * a:3 * a + 3] += B1[a]
+        J[3 * a:3 * a + 3] += B2[a] @ W[3 * a:3 * a + 3]
+    h = 1e-7
+    fd = np.column_stack([(phi(r + h * np.eye(n)[j]) - phi(r - h * np.eye(n)[j])) / (2 * h) for j in range(n)])
+    np.testing.assert_allclose(J, fd, atol=1e-6)
+
+
+def test_polish_on_more_than_sixteen_contacts_uses_the_sparse_path():
+    kinds = ("stick", "slip", "open") * 7
+    p, r_star = known_active_set(11, kinds)
+    start = r_star + 1e-4 * np.random.default_rng(1).normal(size=r_star.size)
+    s = solve(p, method="polish", r0=start, tol=1e-13, options=PolishOptions(dense_max=0))
+    assert s.converged
+    np.testing.assert_allclose(s.r, r_star, atol=1e-11)
+
+
+def test_polish_stalls_honestly_far_from_the_solution():
+    """From zero on a problem whose active set is far away the polish may not converge; it then
+    says so (``stalled`` or ``max_iter``), with an error above the tolerance."""
+    p, _ = known_active_set(5)
+    s = solve(p, method="polish", tol=1e-14, max_iter=2)
+    assert s.converged == (s.error <= 1e-14)
+    if not s.converged:
+        assert s.reason in ("stalled", "max_iter")
+
+
+@needs_fclib
+@pytest.mark.parametrize("name", ["Box_Stacks-i0122-82-5.hdf5", "local_problem_test.hdf5",
+                                  "Spheres-i099-356-679.hdf5", "KaplasTower-i1061-4.hdf5"])
+def test_polish_finishes_an_admm_iterate_on_shared_files(name):
+    """ADMM to 1e-4, then the polish to 1e-10; the cone conditions checked directly on (r, u)
+    at the error's scale, independently of the solver and of the error measure."""
+    p = read_fclib(FCLIB / name)
+    first = solve(p, method="admm", tol=1e-4)
+    s = solve(p, method="polish", r0=first.r, tol=1e-10)
+    assert s.converged and s.error <= 1e-10 and s.iterations <= 10
+    assert fc3d_error(p, s.r) == pytest.approx(s.error, rel=1e-6, abs=1e-16)
+    scale = max(np.linalg.norm(p.q), np.linalg.norm(s.r), np.linalg.norm(s.u))
+    assert cone_violation(p.mu_bar, s.r, s.u, scale_r=scale, scale_u=scale) < 1e-9
+
+
+@needs_fclib
+@pytest.mark.parametrize("name", ["CubeH8.hdf5", "LMGC_GlobalFrictionContactProblem00046.hdf5",
+                                  "local_problem_test.hdf5", "Box_Stacks-i0122-82-5.hdf5",
+                                  "Spheres-i099-356-679.hdf5", "KaplasTower-i1061-4.hdf5"])
+def test_auto_on_shared_files_converged_means_within_tol(name):
+    p = read_fclib(FCLIB / name)
+    s = solve(p, tol=1e-8)
+    assert s.converged and fc3d_error(p, s.r) <= 1e-8
+
+
+@settings(max_examples=25, deadline=None)
+@given(seed=st.integers(0, 10**6), nc=st.integers(1, 24), tol=st.sampled_from([1e-4, 1e-8, 1e-12, 1e-15]),
+       max_iter=st.sampled_from([None, 1, 3, 60]))
+def test_auto_never_calls_converged_above_tol(seed, nc, tol, max_iter):
+    """Random problems (small path and general path, limited budgets): ``converged`` implies the
+    error, recomputed independently, is within ``tol``; a stop for any other reason is not."""
+    rng = np.random.default_rng(seed)
+    A = rng.normal(size=(3 * nc, 3 * nc))
+    W = A @ A.T * rng.uniform(0.0, 1.0) + rng.uniform(0.0, 0.1) * np.eye(3 * nc)
+    p = FrictionContactProblem(W, rng.normal(size=3 * nc), rng.uniform(0.0, 1.0, nc))
+    s = solve(p, tol=tol, max_iter=max_iter)
+    assert s.converged == (s.reason == "converged")
+    if s.converged:
+        assert fc3d_error(p, s.r) <= tol * (1 + 1e-9)
+        np.testing.assert_allclose(s.u, p.W @ s.r + p.q, atol=1e-12 * max(1.0, np.abs(s.u).max()))
+
+
+# ---- the small-problem path -------------------------------------------------------------------
+@pytest.mark.parametrize("method", ["nsgs", "auto", "polish"])
+def test_small_path_agrees_with_the_general_path(method):
+    """``time_limit`` sends a problem of <= 16 contacts down the general path: both answers
+    solve the problem."""
+    p, r_star = known_active_set(2)
+    r0 = r_star + 1e-3 if method == "polish" else None
+    small = solve(p, method=method, tol=1e-12, r0=r0)
+    general = solve(p, method=method, tol=1e-12, r0=r0, time_limit=100.0)
+    assert small.converged and general.converged
+    np.testing.assert_allclose(small.r, general.r, atol=1e-10)
+    assert small.history.size and small.history[-1] == pytest.approx(small.error, rel=1e-9, abs=1e-300)
+
+
+def test_solve_many_of_many_small_problems_is_the_loop():
+    problems = [known_active_set(k % 3)[0] for k in range(50)]
+    records = solve_many(problems, method="auto")
+    assert all(r.converged for r in records)
+    for p, rec in zip(problems[:3], records[:3]):
+        np.testing.assert_array_equal(rec.solution.r, solve(p).r)
+
+
+# ---- the table of methods and the CLI ----------------------------------------------------------
+def test_one_table_of_methods_for_the_solver_and_the_cli():
+    from frictionrules.cli import build_parser
+    parser = build_parser()
+    sub = next(a for a in parser._actions if a.dest == "command").choices["solve"]
+    method = next(a for a in sub._actions if a.dest == "method")
+    assert tuple(method.choices) == tuple(METHODS)
+    p = FrictionContactProblem(np.eye(3), [-1.0, 2.0, 0.0], [0.5])
+    for name, entry in METHODS.items():
+        s = solve(p, method=name, tol=1e-10)
+        assert s.converged and entry.max_iter >= 1
+        np.testing.assert_allclose(s.r, [1.0, -0.5, 0.0], atol=1e-9)
+
+
+# ---- thread limits, times, the table's columns -----------------------------------------------
+def test_thread_limits_cover_every_blas_call_of_a_solve():
+    """During a solve (here prox: SciPy's LU and NumPy's products), every BLAS and OpenMP
+    library loaded in the process, SciPy's own included, runs on one thread."""
+    threadpoolctl = pytest.importorskip("threadpoolctl")
+    seen = []
+
+    def look(info):
+        seen.append([(lib["internal_api"], lib["filepath"], lib["num_threads"])
+                     for lib in threadpoolctl.threadpool_info()])
+
+    p, _ = known_active_set(4, ("stick", "slip", "open") * 8)
+    solve(p, method="prox", tol=1e-10, callback=look)
+    assert seen and all(threads == 1 for libs in seen for _api, _path, threads in libs)
+    assert any("scipy" in path for _api, path, _t in seen[0])
+
+
+def test_table_has_the_method_that_ran_and_the_parameters(tmp_path):
+    for k in range(3):
+        write_fclib(tmp_path / f"p{k}.hdf5", known_active_set(k, ("stick", "slip", "open") * (1 + 6 * k))[0])
+    out = tmp_path / "t.csv"
+    with cf.ThreadPoolExecutor(2) as ex:
+        records = solve_many(tmp_path, method="auto", tol=1e-9, time_limit=30.0, out=out, executor=ex)
+    text = out.read_text()
+    comments = "\n".join(line for line in text.splitlines() if line.startswith("#"))
+    assert "time_limit" in comments and "ThreadPoolExecutor (2 workers)" in comments
+    rows = list(csv.DictReader(line for line in text.splitlines() if not line.startswith("#")))
+    assert tuple(rows[0]) == CSV_HEADER
+    for row, rec in zip(rows, records):
+        assert row["method"] == rec.solution.method != "auto" and row["requested"] == "auto"
+        assert float(row["tol"]) == 1e-9 and float(row["time_limit"]) == 30.0
+        assert float(row["cpu_seconds"]) == pytest.approx(rec.cpu_seconds, abs=1e-6)
+    again = solve_many(tmp_path, method="auto", tol=1e-9, time_limit=30.0, out=out)
+    assert all(r.resumed for r in again)
+    other = solve_many(tmp_path, method="auto", tol=1e-9, time_limit=10.0, out=out)   # another parameter
+    assert not any(r.resumed for r in other)
+
+
+def test_cli_csv_records_time_limit_and_the_method_that_ran(tmp_path):
+    from frictionrules.cli import main
+    write_fclib(tmp_path / "a.hdf5", known_active_set(1, ("stick", "slip", "open") * 8)[0])
+    out = tmp_path / "t.csv"
+    assert main(["solve", str(tmp_path), "--time-limit", "20", "--csv", str(out)]) == 0
+    text = out.read_text()
+    assert "--time-limit 20" in text
+    row = next(csv.DictReader(line for line in text.splitlines() if not line.startswith("#")))
+    assert row["requested"] == "auto" and row["method"].startswith("nsgs") and row["time_limit"] == "20"
+
+
+def test_solve_times_exclude_the_start_up_of_a_fresh_worker(tmp_path):
+    """In a fresh process (spawned: nothing loaded), loading the compiled kernels is done and
+    timed before the first problem, and reported as ``startup_seconds`` apart: the first
+    problem's solve time is that of a solve, not of a start-up (loading costs far more CPU
+    than solving a few contacts), and later tasks in the same process report no start-up."""
+    problems = [known_active_set(k)[0] for k in range(3)]
+    context = multiprocessing.get_context("spawn")
+    with cf.ProcessPoolExecutor(1, mp_context=context) as ex:
+        records = solve_many(problems, method="nsgs", executor=ex, batch_bytes=0)
+    assert all(r.converged for r in records)
+    assert records[0].startup_seconds > 0 and all(r.startup_seconds == 0 for r in records[1:])
+    assert records[0].cpu_seconds < 0.1 * records[0].startup_seconds
