@@ -21,8 +21,8 @@ from __future__ import annotations
 
 __all__ = ["TOL", "MAX_ITER", "MAX_HALVINGS", "SUFFICIENT_DECREASE", "MAX_SUBSTEP_DEPTH",
            "KINK_RADIUS", "KINK_POINTS", "SCALAR_TOL", "SCALAR_MAX_ITER", "ELASTIC", "PLASTIC",
-           "OPEN", "APEX", "FAILED", "GENERAL", "RETURN_GENERIC", "RETURN_RADIAL", "RETURN_ELLIPTIC", "RETURN_SIZE",
-           "kink_circle", "placeholders"]
+           "OPEN", "APEX", "FAILED", "GENERAL", "RETURN_GENERIC", "RETURN_RADIAL",
+           "RETURN_ELLIPTIC", "RETURN_AFFINE", "RETURN_SIZE", "kink_circle", "placeholders"]
 
 #: Newton tolerance on the dimensionless residual: a few hundred ulps of the force scale, far
 #: below any physical tolerance and reached in one or two quadratic steps from 1e-7.
@@ -54,9 +54,11 @@ SCALAR_MAX_ITER = 200
 #: How a law's return is solved (:func:`frictionrules.codegen.return_structure`, recognised from
 #: its symbolic form): Newton's method on the whole system (any law); the radial return along a
 #: flow direction that does not turn (one scalar equation, closed form where f is linear along
-#: it); the elliptic section's one scalar equation. The two special ones fall back to the
-#: general return where their assumptions fail at a contact (a path through the apex, N < 0).
-RETURN_GENERIC, RETURN_RADIAL, RETURN_ELLIPTIC = 0, 1, 2
+#: it); the elliptic section's one scalar equation; Newton's method on the system reduced to
+#: (Δλ, q) where the forces follow from them in closed form (a flow direction affine in the
+#: forces). The special ones fall back to the general return where their assumptions fail at a
+#: contact (a path through the apex, N < 0, no convergence).
+RETURN_GENERIC, RETURN_RADIAL, RETURN_ELLIPTIC, RETURN_AFFINE = 0, 1, 2, 3
 #: Numbers of a law's return block: kind, linear flag, cos and sin of the principal frame and
 #: the eigenvalues of A, and the ratio c of the elliptic return.
 RETURN_SIZE = 7

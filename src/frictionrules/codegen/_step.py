@@ -22,6 +22,24 @@ the start), ``p0, ...`` (the parameters), ``kt, kn`` and, where said, ``lam`` (�
 ``along``
     ``f`` and :math:`\phi' = \nabla f\cdot v + \partial_q f\cdot h` at ``(y, u)`` with ``v0,
     ...`` and ``h0, ...`` as inputs (the scalar Newton iteration where φ is not linear).
+``scales`` (affine flow)
+    At the trial, with ``f``: ``fnorm`` :math:`= |\nabla f|`, ``gnorm`` :math:`= |D\nabla g|`
+    and ``h`` (the scales of the residual's rows and of Δλ, as the general return takes them).
+``reduced`` (affine flow)
+    At ``(lam, q0, ...)`` for the trial ``x`` and the start ``qn0, ...``: the reduced
+    residual ``r0`` :math:`= f(\sigma, q)`, ``r1, ...`` :math:`= q - q_n - \Delta\lambda h`,
+    its Jacobian ``j00, j01, ...`` in :math:`(\Delta\lambda, q)` and the forces ``s0, s1,
+    s2`` :math:`= \sigma(\Delta\lambda, q)`.
+``sensitivity`` (affine flow)
+    At the same point, the derivatives of the residual and of the forces in the trial forces,
+    ``g..`` :math:`= \partial r/\partial x`, ``sx..`` :math:`= \partial\sigma/\partial x`,
+    and of the forces in the unknowns, ``sz..`` :math:`= \partial\sigma/\partial(\Delta
+    \lambda, q)`: the consistent tangent is :math:`(\partial\sigma/\partial x - \partial
+    \sigma/\partial z\, J^{-1}\partial r/\partial x) E`.
+``solve`` (affine flow)
+    The Newton step ``d0, ...`` :math:`= -J^{-1}r` from ``j..`` and ``r..`` (Cramer's rule, for
+    at most :data:`MAX_REDUCED` unknowns; a law with more internal variables takes the general
+    return).
 ``tangent``
     Where φ is linear, the derivative of the closed form, :math:`\tau_{ij} = \partial_j y_i
     E_j`; else :math:`\tau_{ij} = \big(\delta_{ij} + \Delta\lambda\,\partial_j v_i -
@@ -39,7 +57,11 @@ import functools
 
 from ._program import Program, _renamed
 
-__all__ = ["step_programs"]
+__all__ = ["step_programs", "MAX_REDUCED"]
+
+#: Unknowns of the reduced system of an affine flow solved by Cramer's rule in the printed
+#: step (Δλ and up to two internal variables: the cap's κ, β).
+MAX_REDUCED = 3
 
 
 def _symbols(nq):
@@ -86,14 +108,10 @@ def _cancel(expr):
     return short if sympy.count_ops(short) < sympy.count_ops(expr) else expr
 
 
-@functools.lru_cache(maxsize=256)
-def _step_programs(key, form, radial: bool, linear: bool) -> tuple:
+def _radial(form, x, q, f, g, rates, linear) -> list:
     import sympy
-    x, q, f, g, rates = _renamed(form)
     nq = len(q)
     y, u, kt, kn, lam = _symbols(nq)
-    if not radial:
-        return (("trial", _blocks(form, [[("f", f)]], "a")[0]),)
     v = [-kt * sympy.diff(g, x[0]), -kt * sympy.diff(g, x[1]), -kn * sympy.diff(g, x[2])]
     h = [_cancel(r) for r in rates]
     df = [sympy.diff(f, s) for s in x]
@@ -117,8 +135,7 @@ def _step_programs(key, form, radial: bool, linear: bool) -> tuple:
         # The derivative of the closed form y(x).
         tangent = [(f"tan{i}{j}", sympy.diff(ys[i], x[j]) * E[j]) for i in range(3)
                    for j in range(3)]
-        out.append(("tangent", _blocks(form, [tangent], "d")[0]))
-        return tuple(out)
+        return out + [("tangent", _blocks(form, [tangent], "d")[0])]
     at_end = dict(zip(x, y)) | dict(zip(q, u))
     fy = [d.xreplace(at_end) for d in df]
     fqy = [d.xreplace(at_end) for d in dfq]
@@ -134,12 +151,59 @@ def _step_programs(key, form, radial: bool, linear: bool) -> tuple:
             a_j += lam * sum(fqy[m] * sympy.diff(h[m], x[j]) for m in range(nq))
             d_ij = (1 if i == j else 0) + lam * sympy.diff(v[i], x[j]) - v[i] * a_j / b
             tangent.append((f"tan{i}{j}", d_ij * E[j]))
-    out.append(("tangent", _blocks(form, [tangent], "d")[0]))
-    return tuple(out)
+    return out + [("tangent", _blocks(form, [tangent], "d")[0])]
 
 
-def step_programs(form, radial: bool, linear: bool) -> tuple:
-    """The pieces of a law's step (``(name, Program)`` pairs, in print order): ``trial``
-    always; ``radial``, ``along`` (where φ is not linear) and ``tangent`` for a radial return
-    (cached per structure)."""
-    return _step_programs(form.structure, form, radial, linear)
+def _affine(form, x, q, f, g, rates) -> list:
+    import sympy
+    nq = len(q)
+    _, _, kt, kn, lam = _symbols(nq)
+    D = (kt, kt, kn)
+    dg = [sympy.diff(g, s) for s in x]
+    df = [sympy.diff(f, s) for s in x]
+    scales = [("fnorm", sympy.sqrt(sum(d**2 for d in df))),
+              ("gnorm", sympy.sqrt(sum((Da * d)**2 for Da, d in zip(D, dg))))]
+    scales += [(f"h{j}", r) for j, r in enumerate(rates)]
+    first, second = _blocks(form, [[("f", f)], scales], "a")
+    # The forces in closed form for given (Δλ, q): ∇g = H σ + c with H diagonal.
+    zero = dict.fromkeys(x, 0)
+    sigma = {x[a]: (x[a] - lam * D[a] * dg[a].xreplace(zero))
+             / (1 + lam * D[a] * sympy.diff(g, x[a], 2)) for a in range(3)}
+    qn = [sympy.Symbol(f"qn{j}", real=True) for j in range(nq)]
+    res = [f.xreplace(sigma)] + [q[j] - qn[j] - lam * rates[j].xreplace(sigma) for j in range(nq)]
+    z = [lam] + list(q)
+    m = len(z)
+    pieces = [(f"r{a}", e) for a, e in enumerate(res)]
+    pieces += [(f"j{a}{b}", sympy.diff(res[a], z[b])) for a in range(m) for b in range(m)]
+    pieces += [(f"s{a}", sigma[x[a]]) for a in range(3)]
+    J = sympy.Matrix(m, m, lambda a, b: sympy.Symbol(f"j{a}{b}", real=True))
+    r = sympy.Matrix(m, 1, lambda a, _: sympy.Symbol(f"r{a}", real=True))
+    d = -(J.adjugate() * r) / J.det()
+    sens = [(f"g{a}{b}", sympy.diff(res[a], x[b])) for a in range(m) for b in range(3)]
+    sens += [(f"sx{a}{b}", sympy.diff(sigma[x[a]], x[b])) for a in range(3) for b in range(3)]
+    sens += [(f"sz{a}{b}", sympy.diff(sigma[x[a]], z[b])) for a in range(3) for b in range(m)]
+    return [("trial", first), ("scales", second), ("reduced", _blocks(form, [pieces], "c")[0]),
+            ("solve", _blocks(form, [[(f"d{a}", d[a]) for a in range(m)]], "b")[0]),
+            ("sensitivity", _blocks(form, [sens], "d")[0])]
+
+
+@functools.lru_cache(maxsize=256)
+def _step_programs(key, form) -> tuple:
+    from .._returnspec import RETURN_AFFINE, RETURN_RADIAL
+    from ._structure import return_structure
+    x, q, f, g, rates = _renamed(form)
+    s = return_structure(form)
+    if s.kind == RETURN_RADIAL:
+        return tuple(_radial(form, x, q, f, g, rates, s.linear))
+    if s.kind == RETURN_AFFINE and len(q) <= MAX_REDUCED - 1:
+        return tuple(_affine(form, x, q, f, g, rates))
+    return (("trial", _blocks(form, [[("f", f)]], "a")[0]),)
+
+
+def step_programs(form) -> tuple:
+    """The pieces of a law's step (``(name, Program)`` pairs, in print order, by the
+    structure of its return, :func:`~frictionrules.codegen.return_structure`): ``trial``
+    always; ``radial``, ``along`` (where φ is not linear) and ``tangent`` for a radial return;
+    ``scales``, ``reduced``, ``solve`` and ``sensitivity`` for an affine flow with at most
+    ``MAX_REDUCED - 1`` internal variables (cached per structure)."""
+    return _step_programs(form.structure, form)

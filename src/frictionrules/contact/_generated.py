@@ -79,11 +79,9 @@ def _programs(form) -> tuple:
     """``(name, Program)`` of the generated module, in order: the three local functions, then
     the pieces of the step (:func:`frictionrules.codegen.step_programs`); each program's
     parameter-only subexpressions follow the parameters in the law's row in this order."""
-    from .._returnspec import RETURN_RADIAL
-    from ..codegen import local_program, return_structure, step_programs
-    s = return_structure(form)
+    from ..codegen import local_program, step_programs
     return (tuple((f"_local_{level}", local_program(form, level)) for level in LEVELS)
-            + step_programs(form, s.kind == RETURN_RADIAL, s.linear))
+            + step_programs(form))
 
 
 def module_source(form, law_name: str) -> str:

@@ -15,6 +15,14 @@ from ._kernel_law import _eval, _layout
 
 
 @njit(inline="always", error_model="numpy", _nrt=False)
+def sufficient_decrease(trial, merit, alpha):
+    """Armijo's rule of every compiled line search (:data:`~frictionrules._returnspec.
+    SUFFICIENT_DECREASE`): a step of length ``alpha`` is taken when the merit falls to
+    ``(1 - SUFFICIENT_DECREASE alpha)`` of its value."""
+    return math.isfinite(trial) and trial <= (1.0 - _SUFFICIENT_DECREASE * alpha) * merit
+
+
+@njit(inline="always", error_model="numpy", _nrt=False)
 def _residual(w, x, sig_tr, qn, dv, rows, out):
     """Scaled backward-Euler residual at ``x = (σ, q, Δλ)`` into ``out``; returns its norm."""
     NQ = qn.shape[0]
@@ -195,7 +203,7 @@ def _return(lf, l1, l2, clip, sig_tr, qn, p, dv, V, w, wk, J, piv):
                 xk[a] = x[a] + alpha * step[a]
             _eval(lf, l1, l2, clip, xk[0], xk[1], xk[2], xk[3:3 + NQ], p, wk, 1)
             mk = _residual(wk, xk, sig_tr, qn, dv, rows, Rk)
-            if math.isfinite(mk) and mk <= (1.0 - _SUFFICIENT_DECREASE * alpha) * merit:
+            if sufficient_decrease(mk, merit, alpha):
                 for a in range(_M):
                     x[a] = xk[a]
                     R[a] = Rk[a]

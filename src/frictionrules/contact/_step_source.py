@@ -1,11 +1,13 @@
 r"""The whole step of one contact, printed per law structure: the hot path of the compiled
-update, straight-line code behind one indirect call.
+update, straight-line code behind one indirect call (the compiled entry) or inlined into the
+batch loop of :meth:`ContactModel.update`.
 
 The step (:data:`~frictionrules.contact._kernel_law.STEP_SIGNATURE`) reads a contact's state
 row, its increment and the law's row, and writes the new state row, the result row and, when
 asked, the consistent tangent (:mod:`frictionrules.contact.layout`): the elastic trial (4.2),
 separation (``N <= 0``), the limit check and, for the structures whose return needs no Newton
-system (:func:`frictionrules.codegen.return_structure`), the return itself:
+system on the whole of (σ, q, Δλ) (:func:`frictionrules.codegen.return_structure`), the
+return itself:
 
 * radial: :math:`\sigma = \sigma^{tr} + \Delta\lambda v`, :math:`q = q_n + \Delta\lambda h`
   along the flow direction of the trial, :math:`\Delta\lambda = -f^{tr}/\phi'(0)` in closed
@@ -13,7 +15,10 @@ system (:func:`frictionrules.codegen.return_structure`), the return itself:
   :math:`\phi(\Delta\lambda) = f = 0`, with the tangent derived from that map
   (:func:`frictionrules.codegen.step_programs`);
 * elliptic: the scalar equation of
-  :func:`frictionrules.contact._kernel_special.elliptic_return` (no tangent here).
+  :func:`frictionrules.contact._kernel_special.elliptic_return` (no tangent here);
+* affine flow: Newton's iteration on the system reduced to (Δλ, q), the forces in closed form,
+  with the line search of the general return (its rule, its limits and its row scales) and
+  the tangent by implicit differentiation of the reduced system.
 
 Where a contact leaves these assumptions — f not finite at the trial (the kink rule), a
 return through the apex, a tangential force that would reverse, ``N <= 0`` on the way, an
@@ -26,7 +31,7 @@ outputs are written by the helpers the general return uses
 
 from __future__ import annotations
 
-from .._returnspec import RETURN_ELLIPTIC, RETURN_RADIAL
+from .._returnspec import RETURN_AFFINE, RETURN_ELLIPTIC, RETURN_RADIAL
 
 __all__ = ["FAST", "STEP_IMPORTS", "step_function"]
 
@@ -39,18 +44,18 @@ STEP_IMPORTS = (
     "import numpy as np",
     "from numba import carray, njit, uint64",
     "",
-    "from frictionrules._returnspec import GENERAL, RETURN_ELLIPTIC, RETURN_RADIAL, "
-    "SCALAR_MAX_ITER, TOL",
+    "from frictionrules._returnspec import (GENERAL, MAX_HALVINGS, MAX_ITER, RETURN_AFFINE,",
+    "                                       RETURN_ELLIPTIC, RETURN_RADIAL, SCALAR_MAX_ITER, TOL)",
     "from frictionrules.contact._kernel_batch import load_row, store_rows",
     "from frictionrules.contact._kernel_law import STEP_SIGNATURE",
+    "from frictionrules.contact._kernel_newton import sufficient_decrease",
     "from frictionrules.contact._kernel_outputs import (ContactIn, ContactOut, finish_elastic,",
     "                                                   finish_open, finish_plastic, finish_slip,",
     "                                                   keep_q, row_views, trial, write_result)",
     "from frictionrules.contact._kernel_special import elliptic_return",
     "from frictionrules.contact._return_kernel import general_return, workspace",
     "from frictionrules.contact._step_source import FAST",
-    "from frictionrules.contact.layout import (LAW_KN, LAW_KT, LAW_PARAMS, RES_SIZE, RET_KIND, "
-    "STATE_Q)",
+    "from frictionrules.contact.layout import LAW_KN, LAW_KT, LAW_PARAMS, RES_SIZE, RET_KIND, STATE_Q",
 )
 
 #: The step of one contact ``c`` (:class:`~frictionrules.contact._kernel_outputs.ContactIn`)
@@ -159,6 +164,91 @@ _RADIAL_END = f'''    if not (lam >= 0.0 and y2 > 0.0 and y0 * x0 + y1 * x1 > 0.
 {_APEX}'''
 
 
+_AFFINE = f'''    if law[RET_KIND] != RETURN_AFFINE:
+        {_GENERAL}'''
+
+#: Newton's iteration on the reduced system of an affine flow, from (Δλ, q) = (0, q_n), with the
+#: row scales of the general return; the forces of the end follow in closed form.
+_REDUCED = f'''    F = math.sqrt(x0 * x0 + x1 * x1 + x2 * x2)
+    lam_s = F / max(gnorm, 1e-300)
+{{scales}}
+    {{z}} = 0.0, {{qn}}
+    {{now}} = _reduced(law, kt, kn, x0, x1, x2, {{qn}}, {{z}})
+    merit = {{merit}}
+    for it in range(MAX_ITER + 1):
+        if merit <= TOL:
+            break
+        if it == MAX_ITER:
+            {_GENERAL}
+        {{steps}} = _solve({{jr}})
+        alpha = 1.0
+        for k in range(MAX_HALVINGS + 1):
+            if k == MAX_HALVINGS:
+                {_GENERAL}
+            {{z_k}} = {{moved}}
+            {{now_k}} = _reduced(law, kt, kn, x0, x1, x2, {{qn}}, {{z_k}})
+            merit_k = {{merit_k}}
+            if sufficient_decrease(merit_k, merit, alpha):
+                break
+            alpha *= 0.5
+        {{now}}, {{z}} = {{now_k}}, {{z_k}}
+        merit = merit_k
+    if not (z0 >= 0.0 and s2 > 0.0):
+        {_GENERAL}
+    y0, y1, y2 = s0, s1, s2
+{_APEX}
+{{q_out}}
+    if want:
+        {{sens}} = _sensitivity(law, kt, kn, x0, x1, x2, {{qn}}, {{z}})
+{{tangent}}
+    return finish_plastic(c, out, e0, e1, e2, y0, y1, y2, z0, kt, kn)'''
+
+
+def _affine_lines(nq, block) -> list[str]:
+    """The body's lines of the reduced Newton return (:data:`_REDUCED`)."""
+    m = nq + 1
+    names = ([f"r{a}" for a in range(m)] + [f"j{a}{b}" for a in range(m) for b in range(m)]
+             + ["s0", "s1", "s2"])
+    z = [f"z{a}" for a in range(m)]
+
+    def merit(suffix):
+        return "math.sqrt(" + " + ".join(f"(r{a}{suffix} * w{a}) ** 2" for a in range(m)) + ")"
+
+    scales = ["    w0 = 1.0 / max(fnorm * F, 1e-300)"]
+    scales += [f"    w{j + 1} = 1.0 / max(abs(h{j}) * lam_s, abs(q{j}), 1e-300)" for j in range(nq)]
+    sens = ([f"g{a}{b}" for a in range(m) for b in range(3)]
+            + [f"sx{a}{b}" for a in range(3) for b in range(3)]
+            + [f"sz{a}{b}" for a in range(3) for b in range(m)])
+    # dz/dx_b = -J⁻¹ ∂r/∂x_b (the Newton step's solve), dσ/dx = ∂σ/∂x + ∂σ/∂z dz/dx, times E.
+    tangent = []
+    for b, e in enumerate(("kt", "kt", "-kn")):
+        jr = ", ".join(names[m:m + m * m] + [f"g{a}{b}" for a in range(m)])
+        tangent.append(f"        {', '.join(f'dz{a}' for a in range(m))} = _solve({jr})")
+        tangent += [f"        out.tangent[{a}, {b}] = (sx{a}{b} + "
+                    + " + ".join(f"sz{a}{k} * dz{k}" for k in range(m)) + f") * {e}"
+                    for a in range(3)]
+    text = _REDUCED.format(sens=", ".join(sens), tangent="\n".join(tangent),
+        scales="\n".join(scales), qn=", ".join(f"q{j}" for j in range(nq)), z=", ".join(z),
+        now=", ".join(names), merit=merit(""), steps=", ".join(f"d{a}" for a in range(m)),
+        jr=", ".join(names[m:m + m * m] + names[:m]),
+        z_k=", ".join(f"{v}_k" for v in z), now_k=", ".join(f"{n}_k" for n in names),
+        moved=", ".join(f"z{a} + alpha * d{a}" for a in range(m)), merit_k=merit("_k"),
+        q_out="\n".join(f"    out.q[{j}] = z{j + 1}" for j in range(nq)))
+    return [_AFFINE, *block("scales"), text]
+
+
+def _function(name, args, program, hoisted, nparams, outputs) -> str:
+    """An inline compiled function of a piece: ``def name(*args)`` returning ``outputs`` (the
+    parameters read from ``law``)."""
+    from ..codegen import python_block
+    lines = ['@njit(inline="always", error_model="numpy", fastmath=FAST, _nrt=False)',
+             f"def {name}({', '.join(args)}):"]
+    lines += [f"    p{k} = law[LAW_PARAMS + {k}]" for k in range(nparams)]
+    lines += python_block(program, "    ", hoisted, param="law[LAW_PARAMS + {}]")
+    lines.append(f"    return {', '.join(outputs)}")
+    return "\n".join(lines)
+
+
 def _path(nq, indent):
     """``y = x + Δλ v``, ``u = q + Δλ h``."""
     lines = [f"{indent}y{i} = x{i} + lam * v{i}" for i in range(3)]
@@ -185,7 +275,21 @@ def step_function(pieces: dict, kind: int, nq: int, nparams: int, hoisted: dict)
     def block(name, indent="    "):
         return python_block(pieces[name], indent, hoisted[name], param="law[LAW_PARAMS + {}]")
 
-    lines = [_HEAD]
+    functions = []
+    if "reduced" in pieces:
+        m = nq + 1
+        functions.append(_function(
+            "_reduced", ["law", "kt", "kn", "x0", "x1", "x2"] + [f"qn{j}" for j in range(nq)]
+            + ["lam"] + [f"q{j}" for j in range(nq)], pieces["reduced"], hoisted["reduced"],
+            nparams, [name for name, _ in pieces["reduced"].outputs]))
+        functions.append(_function(
+            "_sensitivity", ["law", "kt", "kn", "x0", "x1", "x2"] + [f"qn{j}" for j in range(nq)]
+            + ["lam"] + [f"q{j}" for j in range(nq)], pieces["sensitivity"],
+            hoisted["sensitivity"], nparams, [name for name, _ in pieces["sensitivity"].outputs]))
+        functions.append(_function(
+            "_solve", [f"j{a}{b}" for a in range(m) for b in range(m)] + [f"r{a}" for a in range(m)],
+            pieces["solve"], hoisted["solve"], 0, [f"d{a}" for a in range(m)]))
+    lines = ["\n\n\n".join(functions) + "\n\n" if functions else "", _HEAD]
     lines += [f"    q{j} = c.q[{j}]" for j in range(nq)]
     lines += [f"    p{k} = law[LAW_PARAMS + {k}]" for k in range(nparams)]
     lines += block("trial")
@@ -205,6 +309,8 @@ def step_function(pieces: dict, kind: int, nq: int, nparams: int, hoisted: dict)
         lines += block("tangent", " " * 8)
         lines += [f"        out.tangent[{i}, {j}] = tan{i}{j}" for i in range(3) for j in range(3)]
         lines.append("    return finish_slip(c, out, e0, e1, e2, y0, y1, y2, lam, kt, kn, slip)")
+    elif kind == RETURN_AFFINE and "reduced" in pieces:
+        lines += _affine_lines(nq, block)
     else:
         lines.append(f"    {_GENERAL}")
     return "\n".join(lines) + "\n\n\n" + _ENTRIES.format(nq=nq)
