@@ -243,23 +243,24 @@ DP_CONE = UserLaw("sqrt(T1**2 + T2**2) - 0.5*N", potential="sqrt(T1**2 + T2**2) 
     (UserLaw("sqrt(T1**2 + T2**2) - 0.4*N", potential="sqrt(T1**2 + T2**2)"), "radial", True),
     (DP_CONE, "radial", True), (LAWS["coulomb_hardening"], "radial", False),
     (EllipticOrthotropic(0.3, 0.6, angle=0.4), "elliptic", False),
-    (LAWS["cap"], "generic", False), (LAWS["wedge"], "generic", False)])
+    (LAWS["cap"], "affine", False), (LAWS["wedge"], "generic", False)])
 def test_return_structure_recognised_from_the_symbolic_form(law, kind, linear):
     """Radial: ∂_v ∇g = 0 and ∂_v h = 0 along v = (-D∇g, h) (closed form where ∂_v ∇f = 0 too);
-    elliptic: g = √(TᵀAT), ∇_T f = c ∇_T g."""
-    from frictionrules._returnspec import RETURN_ELLIPTIC, RETURN_GENERIC, RETURN_RADIAL
+    elliptic: g = √(TᵀAT), ∇_T f = c ∇_T g; affine: ∇g affine in the forces (the cap)."""
+    from frictionrules._returnspec import (RETURN_AFFINE, RETURN_ELLIPTIC, RETURN_GENERIC,
+                                           RETURN_RADIAL)
     from frictionrules.codegen import return_structure
     s = return_structure(form_of(law))
     assert s.kind == {"radial": RETURN_RADIAL, "elliptic": RETURN_ELLIPTIC,
-                      "generic": RETURN_GENERIC}[kind]
+                      "affine": RETURN_AFFINE, "generic": RETURN_GENERIC}[kind]
     assert s.linear == linear
 
 
 @pytest.mark.parametrize("law", [Coulomb(0.4), Coulomb(0.4, dilatant=True), DP_CONE,
                                  LAWS["coulomb_hardening"],
-                                 EllipticOrthotropic(0.3, 0.6, angle=0.4)])
+                                 EllipticOrthotropic(0.3, 0.6, angle=0.4), LAWS["cap"]])
 def test_special_returns_equal_the_newton_return(law):
-    """The radial and elliptic returns against the general Newton return of the same compiled
+    """The radial, elliptic and affine-flow returns against the general Newton return of the same compiled
     kernel (the law's row with the return kind set to the general one), to 1e-12, on random
     increments from a loaded state — elastic, plastic, open and through the apex included."""
     from frictionrules.contact._generated import generated_kernel, law_row
@@ -286,3 +287,30 @@ def test_special_returns_equal_the_newton_return(law):
             x, y = getattr(a, field), getattr(b, field)
             scale = work if field == "dissipation" else np.abs(y).max(initial=0.0)
             np.testing.assert_allclose(x, y, rtol=1e-12, atol=1e-12 * scale, err_msg=field)
+
+
+@pytest.mark.parametrize("dilatant", [False, True])
+def test_hand_written_coulomb_kernel_is_the_derived_return(dilatant):
+    """The hand-written Coulomb kernel (radial return (1.4)–(1.6) in closed form, run where no
+    tangent is asked for) gives the NumPy return mapping derived from the symbolic form and
+    the generated step to 1e-12, on random paths (open, elastic and plastic contacts)."""
+    from frictionrules.contact._generated import generated_step
+    from frictionrules.contact._kernel_batch import batch_of, step_of
+    from frictionrules.contact._kernels import run_kernel
+    law = Coulomb(0.4, dilatant=dilatant)
+    m = ContactModel(law, KN, KT)
+    assert m.kernel() == "coulomb"
+    s = m.initial_state(200)
+    for du in _path(5, 200, 6):
+        a = m.update(s, du)
+        b = m.update(s, du, compiled=False)
+        _compare(a, b, 1e-12, du)
+        e, p, q = s.elastic, s.plastic, m._q(s)
+        hand = step_of(run_kernel(law.closed_form_return(), KT, KN, batch_of(e, p, q, du)))
+        gen, failed, _ = generated_step(law, KT, KN, e, p, q, du, False)
+        assert not failed.any()
+        for field in ("e", "p", "force", "dlam", "status", "dissipation", "slip"):
+            x, y = getattr(hand, field), getattr(gen, field)
+            np.testing.assert_allclose(x, y, rtol=0, atol=1e-12 * max(np.abs(y).max(), 1.0),
+                                       err_msg=field)
+        s = b.state

@@ -39,10 +39,6 @@ from .layout import FN_F, FN_FIRST, FN_FULL, FN_SIZE, FN_STEP, LAW_PARAMS, LAW_R
 __all__ = ["GeneratedKernel", "CompiledLaw", "compiled_law", "law_row", "generated_kernel",
            "generated_step", "cache_dir"]
 
-#: Contacts per thread below which one thread runs (a thread costs more than the work).
-SERIAL_BELOW = 2048
-
-
 def cache_dir() -> Path:
     """The folder generated kernel modules are written to (created on first use)."""
     env = os.environ.get("FRICTIONRULES_CACHE_DIR")
@@ -178,25 +174,9 @@ class GeneratedKernel:
         (:class:`~frictionrules.contact._kernel_batch.Batch`: ``e, p, q, du``, C-ordered float
         arrays) in, a :class:`~frictionrules.contact._kernel_batch.BatchResult` out (no
         substeps: ``failed`` where the iteration failed)."""
-        from numba import get_num_threads
-
-        from ._kernel_batch import batch_result
-        n = len(batch.du)
-        out = batch_result(n, self.nq, tangent)
-        fn, loop = self.fn, self.module._batch
-        threads = min(get_num_threads(), n // SERIAL_BELOW)
-        if threads <= 1:
-            loop(fn, row, batch, out, bool(tangent), 0, n)
-        else:
-            # The loop releases the GIL: chunks of contacts run on threads in parallel.
-            from concurrent.futures import ThreadPoolExecutor
-            cuts = np.linspace(0, n, 4 * threads + 1).astype(int)
-            with ThreadPoolExecutor(threads) as pool:
-                jobs = [pool.submit(loop, fn, row, batch, out, bool(tangent), int(a), int(b))
-                        for a, b in zip(cuts[:-1], cuts[1:])]
-                for job in jobs:
-                    job.result()
-        return out
+        from ._kernel_batch import run_chunks
+        return run_chunks(self.module._batch, (self.fn, row, bool(tangent)), batch, self.nq,
+                          tangent)
 
 
 @dataclass(frozen=True, eq=False)
@@ -288,10 +268,6 @@ def generated_step(law, kt, kn, e, p, q, du, tangent: bool):
     contacts whose iteration failed (the caller substeps those with the NumPy return mapping)
     and the consistent tangents ``(n, 3, 3)`` (None unless ``tangent``).
     """
-    from ._kernel_batch import Batch
-    from ._step import Step
-    kernel = generated_kernel(law)
-    batch = Batch(*(np.ascontiguousarray(a, dtype=float) for a in (e, p, q, du)))
-    out = kernel.run(law_row(law, kt, kn), batch, tangent)
-    step = Step(out.e, out.p, out.q, out.force, out.dlam, out.status, out.dissipation, out.slip)
-    return step, out.failed, (out.tangent if tangent else None)
+    from ._kernel_batch import batch_of, step_of
+    out = generated_kernel(law).run(law_row(law, kt, kn), batch_of(e, p, q, du), tangent)
+    return step_of(out), out.failed, (out.tangent if tangent else None)

@@ -39,6 +39,41 @@ class BatchResult(NamedTuple):
     tangent: np.ndarray
 
 
+def batch_of(e, p, q, du) -> Batch:
+    """A :class:`Batch` of the arrays (C-ordered float copies only where they are not)."""
+    return Batch(*(np.ascontiguousarray(a, dtype=float) for a in (e, p, q, du)))
+
+
+def step_of(out: BatchResult):
+    """The :class:`~frictionrules.contact._step.Step` of a batch's outputs (no copies)."""
+    from ._step import Step
+    return Step(out.e, out.p, out.q, out.force, out.dlam, out.status, out.dissipation, out.slip)
+
+
+#: Contacts per thread below which one thread runs (a thread costs more than the work).
+SERIAL_BELOW = 2048
+
+
+def run_chunks(loop, head: tuple, batch: Batch, nq: int, tangent: bool) -> BatchResult:
+    """Run the compiled batch loop ``loop(*head, batch, out, lo, hi)`` (which releases the
+    GIL) over fresh outputs, in chunks of contacts on Numba's number of threads."""
+    from numba import get_num_threads
+    n = len(batch.du)
+    out = batch_result(n, nq, tangent)
+    threads = min(get_num_threads(), n // SERIAL_BELOW)
+    if threads <= 1:
+        loop(*head, batch, out, 0, n)
+        return out
+    from concurrent.futures import ThreadPoolExecutor
+    cuts = np.linspace(0, n, 4 * threads + 1).astype(int)
+    with ThreadPoolExecutor(threads) as pool:
+        jobs = [pool.submit(loop, *head, batch, out, int(a), int(b))
+                for a, b in zip(cuts[:-1], cuts[1:])]
+        for job in jobs:
+            job.result()
+    return out
+
+
 def batch_result(n: int, nq: int, tangent: bool) -> BatchResult:
     """Fresh outputs for ``n`` contacts."""
     return BatchResult(np.empty((n, 3)), np.empty((n, 3)), np.empty((n, nq)), np.empty((n, 3)),

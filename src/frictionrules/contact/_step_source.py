@@ -104,7 +104,7 @@ def _range(fn, law, batch, out, want, lo, hi, s, s1, res, ws):
 
 
 @njit(error_model="numpy", fastmath=FAST, _nrt=False)
-def _loop(fn, law, batch, out, want, lo, hi, s, s1, res, ws):
+def _loop(fn, law, want, batch, out, lo, hi, s, s1, res, ws):
     if want:
         _range(fn, law, batch, out, True, lo, hi, s, s1, res, ws)
     else:
@@ -112,8 +112,8 @@ def _loop(fn, law, batch, out, want, lo, hi, s, s1, res, ws):
 
 
 @njit(nogil=True, cache=True, error_model="numpy")
-def _batch(fn, law, batch, out, want, lo, hi):
-    _loop(fn, law, batch, out, want, lo, hi, np.empty(STATE_Q + {nq}), np.empty(STATE_Q + {nq}),
+def _batch(fn, law, want, batch, out, lo, hi):
+    _loop(fn, law, want, batch, out, lo, hi, np.empty(STATE_Q + {nq}), np.empty(STATE_Q + {nq}),
           np.empty(RES_SIZE), workspace({nq}))
 '''
 
