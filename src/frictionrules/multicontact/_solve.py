@@ -31,6 +31,7 @@ import numpy as np
 
 from ..errors import FrictionRulesError, check_finite, check_scalar
 from ._frame import _Frame, _Monitor
+from ._admm import all_stick
 from ._methods import METHODS, check_method, options_for
 from .problem import FrictionContactProblem, Solution
 
@@ -52,7 +53,7 @@ __all__ = ["solve", "METHODS"]
 #: sweeps, each 5-10 times dearer), the polish trying whenever the sweeps' error has fallen
 #: by ``_AUTO_POLISH_STEP`` since its last try (first at ``_AUTO_POLISH_FROM``).
 _AUTO_PROBE, _AUTO_PROBE_FIRST, _AUTO_PROX_MAX = 50, 10, 1000
-_AUTO_ADMM_LEVELS, _AUTO_ADMM_BUDGET = (1e-4, 1e-6), 400
+_AUTO_ADMM_LEVELS, _AUTO_ADMM_BUDGET, _AUTO_ADMM_MORE = (1e-4, 1e-6), 400, 30
 _AUTO_POLISH_FROM, _AUTO_POLISH_STEP = 1e-6, 1e-2
 #: ADMM starts from the probe's answer. Measured (CPU to 1e-8 with the polish): from the
 #: probe's answer Spheres 0.007 s and KaplasTower 0.087 s, from zero 0.011 s and 0.062 s, from
@@ -272,9 +273,13 @@ def _run_auto(fr, r, tol, max_iter, mon):
         r, stop = run("nsgs", r, tol, min(int(1.5 * more) + 2, _AUTO_PROBE - total))
     if not stop and fr.nc <= _AUTO_PROX_MAX:
         spent = total
+        if all_stick(fr, options_for("admm", None)):
+            r = start.copy()
         for level in _AUTO_ADMM_LEVELS:
-            r, stop = run("admm", r, max(tol, level), _AUTO_ADMM_BUDGET - (total - spent))
-            if stop or mon.reason != "converged":
+            mon.handover = (max(tol, level), _AUTO_ADMM_MORE)
+            r, stop = run("admm", r, tol, _AUTO_ADMM_BUDGET - (total - spent))
+            mon.handover = None
+            if stop or not mon.errors or mon.errors[-1] > max(tol, level):
                 break
             r, stop = polish(r)
             if stop:
@@ -294,6 +299,6 @@ def _run_auto(fr, r, tol, max_iter, mon):
             break
         level = max(tol, level * _AUTO_POLISH_STEP)
     mon.tol = tol
-    if mon.reason in ("converged", "stalled") and (not mon.errors or mon.errors[-1] > tol):
+    if mon.reason in ("converged", "stalled", "handover") and (not mon.errors or mon.errors[-1] > tol):
         mon.reason = "max_iter"
     return r, total, "+".join(ran)
