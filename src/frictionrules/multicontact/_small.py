@@ -129,19 +129,19 @@ def _sweeps(indptr, indices, data, D, q, mu, dil, r, tol, budget, norm_q, h_err,
 
 
 @njit(cache=True)
-def small_solve(indptr, indices, data, q, mu, dil, r, tol, max_iter, mode, contraction, patience, max_halvings,
-                r_bound_factor):
-    """Solve in place from ``r``: mode 0 nsgs, 1 polish, 2 auto (see the module docstring).
+def small_solve(indptr, indices, data, q, mu, dil, r, u, h_err, h_it, tol, max_iter, mode, contraction, patience,
+                max_halvings, r_bound_factor):
+    """Solve in place from ``r``: mode 0 nsgs, 1 polish, 2 auto (see the module docstring);
+    ``u`` receives :math:`W r + q`, ``h_err``, ``h_it`` the history (buffers of any size,
+    replaced by larger ones when the history outgrows them).
 
-    Returns ``(iterations, error, u, bounded, history errors, history iterations, stages)``;
-    ``stages`` is the number of stages run (they alternate from nsgs, or are one polish in
-    mode 1: see :func:`stage_names`); ``bounded``
-    whether the reactions are within ``r_bound_factor`` times |q| over the mean |W_ii|.
+    Returns ``(iterations, error, bounded, stages, history length, h_err, h_it)``; ``stages``
+    is the number of stages run (they alternate from nsgs, or are one polish in mode 1: see
+    :func:`stage_names`); ``bounded`` whether the reactions are within ``r_bound_factor``
+    times |q| over the mean |W_ii|. The error is the last stage's, of ``r`` as returned.
     """
     nc = mu.size
     norm_q = np.sqrt(np.sum(q * q))
-    h_err = np.empty(CHUNK + 4)
-    h_it = np.empty(CHUNK + 4, dtype=np.int64)
     D = K.diagonal_blocks(indptr, indices, data, nc)
     nh, done, err = 0, 0, np.inf
     ns = 0
@@ -164,7 +164,14 @@ def small_solve(indptr, indices, data, q, mu, dil, r, tol, max_iter, mode, contr
         if mode != 2 or err <= tol or budget <= 0:
             break
         stage = 1 - stage
-    err, u = _error(indptr, indices, data, q, mu, dil, r, norm_q)
+    # every stage ends with the error of r as it is (NSGS evaluates after its last sweep)
+    for i in range(3 * nc):
+        acc = q[i]
+        for k in range(indptr[i], indptr[i + 1]):
+            acc += data[k] * r[indices[k]]
+        u[i] = acc
+    if not np.isfinite(err):
+        err, _u = _error(indptr, indices, data, q, mu, dil, r, norm_q)
     mean_diag, count = 0.0, 0
     for a in range(nc):
         for l in range(3):
@@ -173,7 +180,16 @@ def small_solve(indptr, indices, data, q, mu, dil, r, tol, max_iter, mode, contr
                 count += 1
     mean_diag = mean_diag / count if count else 1.0
     bounded = np.sqrt(np.sum(r * r)) <= r_bound_factor * max(norm_q, 1e-300) / mean_diag
-    return done, err, u, bounded, h_err[:nh], h_it[:nh], ns
+    return done, err, bounded, ns, nh, h_err, h_it
+
+
+#: History entries allocated per call (the small path's runs rarely evaluate more errors).
+HISTORY = 64
+
+
+def buffers(n: int):
+    """``(r, u, h_err, h_it)`` for :func:`small_solve` on ``n`` unknowns, r zero."""
+    return np.zeros(n), np.empty(n), np.empty(HISTORY), np.empty(HISTORY, dtype=np.int64)
 
 
 @functools.cache

@@ -163,17 +163,24 @@ def solve(problem: FrictionContactProblem, method: str = "auto", tol: float = 1e
         stopped; ``history[k]`` the error after iteration ``history_iterations[k]``;
         ``seconds`` and ``cpu_seconds`` the wall and CPU time of the call.
     """
-    tol, max_iter, time_limit, blas_threads, opts = _check(problem, method, tol, max_iter, time_limit,
-                                                           blas_threads, callback, options)
-    t0, c0 = time.perf_counter(), time.thread_time()
+    c0, t0 = time.thread_time(), time.perf_counter()
+    if (type(problem) is FrictionContactProblem and problem.nc <= SMALL_MAX and method in SMALL_MODES
+            and problem.frames is None and callback is None and time_limit is None and options is None
+            and max_iter is None and r0 is None and type(tol) is float and 0.0 <= tol < np.inf
+            and (blas_threads is None or type(blas_threads) is int and blas_threads >= 1)):
+        # the small path with every argument at its default: nothing else to check
+        opts, max_iter = None, METHODS[method].max_iter
+    else:
+        tol, max_iter, time_limit, blas_threads, opts = _check(problem, method, tol, max_iter, time_limit,
+                                                               blas_threads, callback, options)
     if (problem.nc <= SMALL_MAX and method in SMALL_MODES and problem.frames is None
             and callback is None and time_limit is None):
         r, u, err, it, hist, hist_it, ran, reason = _solve_small(problem, method, tol, max_iter, r0, opts,
                                                                  _small_path())
         if reason == "converged" or method != "auto":
-            return Solution(r=r, u=u, error=err, iterations=it, converged=reason == "converged", history=hist,
-                            history_iterations=hist_it, method=ran, seconds=time.perf_counter() - t0,
-                            reason=reason, cpu_seconds=time.thread_time() - c0)
+            return Solution._record(r, u, err, it, reason == "converged", hist, hist_it, ran,
+                                    time.perf_counter() - t0, reason, time.thread_time() - c0)
+        opts = options_for(method, options)
     with thread_limits(blas_threads):
         fr = _Frame(problem)
         r = _initial(problem, fr, r0)
@@ -203,20 +210,24 @@ def _solve_small(problem, method, tol, max_iter, r0, opts, small):
     """The compiled small-problem path (:mod:`._small`): ``(r, u, error, iterations, history,
     history_iterations, stages, reason)``."""
     W = problem.W
-    r = np.zeros(3 * problem.nc) if r0 is None else check_finite("r0", r0).ravel().astype(float)
-    if r.size != 3 * problem.nc:
-        raise FrictionRulesError(f"r0 has {r.size} entries; constraint: 3 nc = {3 * problem.nc}")
-    polish = opts if method == "polish" else small.POLISH_DEFAULTS
-    it, err, u, bounded, hist, hist_it, stages = small.small_solve(
-        W.indptr, W.indices, W.data, problem.q, problem.mu_bar, problem.dilatancy, r, tol, max_iter,
-        small.MODES[method], polish.contraction, polish.patience, polish.max_halvings, small.UNBOUNDED)
+    n = 3 * problem.nc
+    r, u, h_err, h_it = small.buffers(n)
+    if r0 is not None:
+        r = check_finite("r0", r0).ravel().astype(float)
+        if r.size != n:
+            raise FrictionRulesError(f"r0 has {r.size} entries; constraint: 3 nc = {n}")
+    polish = opts if method == "polish" and opts is not None else small.POLISH_DEFAULTS
+    mode = small.MODES[method]
+    it, err, bounded, stages, nh, h_err, h_it = small.small_solve(
+        W.indptr, W.indices, W.data, problem.q, problem.mu_bar, problem.dilatancy, r, u, h_err, h_it, tol,
+        max_iter, mode, polish.contraction, polish.patience, polish.max_halvings, small.UNBOUNDED)
     if not bounded:
         reason = "unbounded"
     elif err <= tol:
         reason = "converged"
     else:
         reason = "stalled" if method == "polish" and it < max_iter else "max_iter"
-    return r, u, err, it, hist, hist_it, small.stage_names(small.MODES[method], stages), reason
+    return r, u, err, it, h_err[:nh], h_it[:nh], small.stage_names(mode, stages), reason
 
 
 def _run(method, fr, r, max_iter, mon, opts):
