@@ -188,6 +188,44 @@ def test_auto_hands_over_from_admm_only_inside_its_stages():
 
 
 # ---- the small-problem path -------------------------------------------------------------------
+def test_solution_record_is_the_generated_init():
+    """``Solution._record`` (the small path's constructor) gives the record ``Solution(...)``
+    gives: the same fields, frozen."""
+    import dataclasses
+    p, _ = known_active_set(1)
+    s = solve(p, method="nsgs", tol=1e-12)
+    fields = [getattr(s, f.name) for f in dataclasses.fields(s)]
+    fast = type(s)._record(*fields)
+    for f in dataclasses.fields(s):
+        np.testing.assert_array_equal(getattr(fast, f.name), getattr(s, f.name))
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        fast.error = 0.0
+
+
+@pytest.mark.parametrize("method", ["nsgs", "auto", "polish"])
+def test_solve_batch_equals_solve_one_by_one(method):
+    """``solve_batch`` (the small problems in one compiled call) returns what ``solve`` returns
+    problem by problem: reactions, velocities, errors, iterations, histories, stages, reasons;
+    a problem beyond the small path's 16 contacts and a dilatant one go through it too."""
+    from frictionrules import Coulomb, solve_batch
+    rng = np.random.default_rng(7)
+    problems = []
+    for nc in (1, 2, 5, 9, 16, 20):
+        A = rng.normal(size=(3 * nc, 3 * nc))
+        problems.append(FrictionContactProblem(A @ A.T / (3 * nc) + 0.3 * np.eye(3 * nc), rng.normal(size=3 * nc),
+                                               rng.uniform(0.1, 0.9, nc)))
+    problems.append(FrictionContactProblem(np.eye(3), [-1.0, 2.0, 0.0], [Coulomb(0.5, dilatant=True)]))
+    batch = solve_batch(problems, method=method, tol=1e-10)
+    for p, b in zip(problems, batch):
+        s = solve(p, method=method, tol=1e-10)
+        np.testing.assert_array_equal(b.r, s.r)
+        np.testing.assert_array_equal(b.u, s.u)
+        np.testing.assert_array_equal(b.history, s.history)
+        np.testing.assert_array_equal(b.history_iterations, s.history_iterations)
+        assert (b.error, b.iterations, b.method, b.reason, b.converged) == (s.error, s.iterations, s.method,
+                                                                             s.reason, s.converged)
+        assert b.cpu_seconds >= 0.0 and b.seconds >= 0.0
+    assert solve_batch([], method=method) == []
 @pytest.mark.parametrize("method", ["nsgs", "auto", "polish"])
 def test_small_path_agrees_with_the_general_path(method):
     """``time_limit`` sends a problem of <= 16 contacts down the general path: both answers
