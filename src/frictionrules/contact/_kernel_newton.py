@@ -9,17 +9,13 @@ from numba import njit
 
 from .._returnspec import MAX_HALVINGS as _MAX_HALVINGS
 from .._returnspec import MAX_ITER as _MAX_ITER
-from .._returnspec import SUFFICIENT_DECREASE as _SUFFICIENT_DECREASE
 from .._returnspec import TOL as _TOL
+from .._returnspec import sufficient_decrease as _sufficient_decrease
 from ._kernel_law import _eval, _layout
 
-
-@njit(inline="always", error_model="numpy", _nrt=False)
-def sufficient_decrease(trial, merit, alpha):
-    """Armijo's rule of every compiled line search (:data:`~frictionrules._returnspec.
-    SUFFICIENT_DECREASE`): a step of length ``alpha`` is taken when the merit falls to
-    ``(1 - SUFFICIENT_DECREASE alpha)`` of its value."""
-    return math.isfinite(trial) and trial <= (1.0 - _SUFFICIENT_DECREASE * alpha) * merit
+#: Armijo's rule of every compiled line search: the specification's own function, compiled.
+sufficient_decrease = njit(inline="always", error_model="numpy", _nrt=False)(
+    _sufficient_decrease)
 
 
 @njit(inline="always", error_model="numpy", _nrt=False)
