@@ -67,8 +67,8 @@ LEVELS = ("f", "first", "full")
 
 #: The package's modules whose compiled code a generated module includes (their text is part
 #: of the module's digest, so that Numba's cache of the module follows changes in them).
-_INCLUDED = ("_kernel_law.py", "_kernel_outputs.py", "_kernel_special.py", "layout.py",
-             "../_returnspec.py")
+_INCLUDED = ("_kernel_batch.py", "_kernel_law.py", "_kernel_newton.py", "_kernel_outputs.py",
+             "_kernel_special.py", "_return_kernel.py", "layout.py", "../_returnspec.py")
 
 
 def _programs(form) -> tuple:

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
+from numba import njit, uint64
 
 from .._returnspec import ELASTIC, OPEN, PLASTIC
 
@@ -21,7 +21,7 @@ from .._returnspec import ELASTIC, OPEN, PLASTIC
 _FAST = {"arcp", "contract"}
 
 
-@njit(inline="always", error_model="numpy")
+@njit(inline="always", error_model="numpy", _nrt=False)
 def _write(batch, out, i, f0, f1, f2, T1, T2, N, dl, status):
     """Contact ``i`` ends with elastic displacement ``f`` and forces ``(T1, T2, N)``."""
     e, p = batch.e, batch.p
@@ -38,17 +38,18 @@ def _write(batch, out, i, f0, f1, f2, T1, T2, N, dl, status):
     out.failed[i] = False
 
 
-@njit(nogil=True, cache=True, error_model="numpy", fastmath=_FAST)
+@njit(nogil=True, cache=True, error_model="numpy", fastmath=_FAST, _nrt=False)
 def coulomb_range(kt, kn, mu, dilatant, batch, out, lo, hi):
     """Backward-Euler radial return of Coulomb friction, ``f = |T| - mu N``, for contacts
-    ``lo <= i < hi`` (without the GIL: the caller runs chunks on threads).
+    ``lo <= i < hi`` (without the GIL: the caller runs chunks on threads; without reference
+    counting and with an unsigned index, as the generated loop).
 
     ``dilatant`` selects g = f ((1.6): normal slip ``mu |Δδtᵖ|``, opening) instead of g = |T|:
     ``Δλ = f/(kt + kn mu²)`` and ``N += kn mu Δλ``, else ``Δλ = f/kt``; ``T = mu N T_tr/|T_tr|``,
     and the slip of the step is Δλ (|∂g/∂T| = 1).
     """
     e, du = batch.e, batch.du
-    for i in range(lo, hi):
+    for i in range(uint64(lo), uint64(hi)):
         e0 = e[i, 0] + du[i, 0]
         e1 = e[i, 1] + du[i, 1]
         e2 = e[i, 2] + du[i, 2]

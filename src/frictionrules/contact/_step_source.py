@@ -60,10 +60,18 @@ STEP_IMPORTS = (
 
 #: The step of one contact ``c`` (:class:`~frictionrules.contact._kernel_outputs.ContactIn`)
 #: into ``out`` (``ContactOut``), returning ``(status, Δλ, dissipation, slip)``; inlined into
-#: the C-callable step and the batch loop.
-_HEAD = '''@njit(inline="always", error_model="numpy", fastmath=FAST, _nrt=False)
-def _body(c, law, out, want):
-    kt, kn = law[LAW_KT], law[LAW_KN]
+#: the C-callable step and the batch loop. The stiffnesses and the values after
+#: ``LAW_PARAMS`` in the law's row (``values``: parameters and parameter-only subexpressions,
+#: :func:`_values`) come as scalars read once by the caller: the batch loop reads them before
+#: its loop, so that their quotients are computed once (the law's row could alias an output,
+#: and would be read again after every store).
+_HEAD = '''@njit(inline="always", error_model="numpy", _nrt=False)
+def _values(law):
+    return ({values})
+
+
+@njit(inline="always", error_model="numpy", fastmath=FAST, _nrt=False)
+def _body(c, law, kt, kn, values, out, want):
     e0, e1, e2, x0, x1, x2 = trial(c, kt, kn)
     if not x2 > 0.0:
         keep_q(c, out)
@@ -80,7 +88,7 @@ def _step(s, du, law, s1, res, tan, want):
     res = carray(res, (RES_SIZE,))
     c, out = row_views(carray(s, (STATE_Q + {nq},)), carray(du, (3,)),
                        carray(s1, (STATE_Q + {nq},)), res, carray(tan, (3, 3)))
-    kind, lam, diss, slip = _body(c, law, out, want)
+    kind, lam, diss, slip = _body(c, law, law[LAW_KT], law[LAW_KN], _values(law), out, want)
     if kind != GENERAL:
         write_result(res, lam, diss, slip)
     return kind
@@ -88,10 +96,11 @@ def _step(s, du, law, s1, res, tan, want):
 
 @njit(inline="always", error_model="numpy", fastmath=FAST, _nrt=False)
 def _range(fn, law, batch, out, want, lo, hi, s, s1, res, ws):
+    kt, kn, values = law[LAW_KT], law[LAW_KN], _values(law)
     for i in range(uint64(lo), uint64(hi)):
         tan = out.tangent[i] if want else out.tangent[0]
         kind, lam, diss, slip = _body(ContactIn(batch.e[i], batch.p[i], batch.q[i], batch.du[i]),
-                                      law, ContactOut(out.e[i], out.p[i], out.q[i], out.force[i],
+                                      law, kt, kn, values, ContactOut(out.e[i], out.p[i], out.q[i], out.force[i],
                                                       tan), want)
         failed = False
         if kind == GENERAL:
@@ -120,11 +129,16 @@ def _batch(fn, law, want, batch, out, lo, hi):
 #: Where the general return takes over.
 _GENERAL = "return GENERAL, 0.0, 0.0, 0.0"
 
-_ELASTIC = f'''    if not math.isfinite(f):
-        {_GENERAL}
-    if f <= 0.0:
+#: The limit check; a limit condition that is not finite goes to the general return (the kink
+#: rule): -inf here, NaN and +inf by :data:`_FINITE` or the closed-form radial return's test.
+_ELASTIC = f'''    if f <= 0.0:
+        if f == -math.inf:
+            {_GENERAL}
         keep_q(c, out)
         return finish_elastic(c, out, e0, e1, e2, x0, x1, x2, kt, kn, want)'''
+
+_FINITE = f'''    if not math.isfinite(f):
+        {_GENERAL}'''
 
 #: The end of a special return at the forces y: back to the general return where it ends at
 #: the apex (|σ| <= TOL |σ_tr|, as the general return decides it).
@@ -162,6 +176,14 @@ _SCALAR_NEWTON = f'''    lam = -f / slope
 _RADIAL_END = f'''    if not (lam >= 0.0 and y2 > 0.0 and y0 * x0 + y1 * x1 > 0.0):
         {_GENERAL}
 {_APEX}'''
+
+#: The radial return in closed form: every condition of the radial return (its kind in the
+#: law's row, f finite, a falling slope, Δλ >= 0, N > 0, no turn of T, not at the apex) in
+#: one test without branches (one branch where there were five).
+_RADIAL_CLOSED = f'''    if not ((law[RET_KIND] == RETURN_RADIAL) & (f < math.inf) & (slope < 0.0) & (lam >= 0.0)
+            & (y2 > 0.0) & (y0 * x0 + y1 * x1 > 0.0)
+            & (y0 * y0 + y1 * y1 + y2 * y2 > TOL * TOL * (x0 * x0 + x1 * x1 + x2 * x2))):
+        {_GENERAL}'''
 
 
 _AFFINE = f'''    if law[RET_KIND] != RETURN_AFFINE:
@@ -273,7 +295,7 @@ def step_function(pieces: dict, kind: int, nq: int, nparams: int, hoisted: dict)
     from ..codegen import python_block
 
     def block(name, indent="    "):
-        return python_block(pieces[name], indent, hoisted[name], param="law[LAW_PARAMS + {}]")
+        return python_block(pieces[name], indent, hoisted[name], param="values[{}]")
 
     functions = []
     if "reduced" in pieces:
@@ -289,21 +311,28 @@ def step_function(pieces: dict, kind: int, nq: int, nparams: int, hoisted: dict)
         functions.append(_function(
             "_solve", [f"j{a}{b}" for a in range(m) for b in range(m)] + [f"r{a}" for a in range(m)],
             pieces["solve"], hoisted["solve"], 0, [f"d{a}" for a in range(m)]))
-    lines = ["\n\n\n".join(functions) + "\n\n" if functions else "", _HEAD]
+    nvalues = max([nparams] + [k + 1 for name in pieces for k in hoisted[name].values()])
+    values = "".join(f"law[LAW_PARAMS + {k}], " for k in range(nvalues))
+    lines = ["\n\n\n".join(functions) + "\n\n" if functions else "",
+             _HEAD.format(values=values)]
     lines += [f"    q{j} = c.q[{j}]" for j in range(nq)]
-    lines += [f"    p{k} = law[LAW_PARAMS + {k}]" for k in range(nparams)]
+    lines += [f"    p{k} = values[{k}]" for k in range(nparams)]
     lines += block("trial")
     lines.append(_ELASTIC)
+    if kind == RETURN_RADIAL and "along" not in pieces:
+        lines += [*block("radial"), _RADIAL_CLOSED]
+    else:
+        lines.append(_FINITE)
     if kind == RETURN_ELLIPTIC:
         lines.append(_ELLIPTIC)
     elif kind == RETURN_RADIAL:
-        lines += [_RADIAL_START, *block("radial"), _SLOPE]
         if "along" in pieces:
+            lines += [_RADIAL_START, *block("radial"), _SLOPE]
             lines.append(_SCALAR_NEWTON.format(along="\n".join(_path(nq, " " * 8)
                                                                 + block("along", " " * 8))))
             lines += _path(nq, "    ")
             lines.append("    slip = lam * slip_rate")
-        lines.append(_RADIAL_END)
+            lines.append(_RADIAL_END)
         lines += [f"    out.q[{j}] = u{j}" for j in range(nq)]
         lines.append("    if want:")
         lines += block("tangent", " " * 8)
