@@ -2,7 +2,11 @@
 own Python on the same W, q, mu, its answer read back and measured with our error.
 
 * Siconos 4.4 (Debian ``python3-siconos python3-scipy`` for ``/usr/bin/python3``): NSGS,
-  NSN_AC, PROX and ADMM of ``fc3d_driver``, fed W as ``SBM_from_csparse(3, W_csc)``.
+  NSN_AC, PROX and ADMM of ``fc3d_driver``, fed W as ``SBM_from_csparse(3, W_csc)``. The time
+  of a run is that of the ``fc3d_driver`` call (its options and arrays made before); on
+  problems of at most ``CALL_MAX_UNKNOWNS`` unknowns the whole Python call (making the
+  options and the arrays, the driver, reading the results: what ``solve`` does in one call)
+  is also timed, as ``times_call``.
 * Pinocchio 4.1 (``pip install pin scipy`` in a separate venv, named by ``--pinocchio-python``
   or ``$PINOCCHIO_PYTHON``): ``ADMMConstraintSolver`` on ``DelassusOperatorSparse`` (``ADMM``;
   ``ADMM_DENSE`` on ``DelassusOperatorDense`` can be named, and was slower on KaplasTower, 4.9 s
@@ -35,7 +39,7 @@ PGS_MAX_UNKNOWNS = 6000
 
 #: Repetitions of a run: until its CPU time adds up to REPEAT_SECONDS, at most REPEATS_MAX
 #: (the median is reported with the spread); a run of a tiny problem is repeated hundreds of times.
-REPEAT_PREAMBLE = "REPEAT_SECONDS, REPEATS_MAX = 0.3, 400\n"
+REPEAT_PREAMBLE = "REPEAT_SECONDS, REPEATS_MAX, CALL_MAX_UNKNOWNS = 0.3, 400, 48\n"
 
 SICONOS_RUNNER = REPEAT_PREAMBLE + r"""
 import json, resource, sys, time
@@ -60,9 +64,20 @@ while len(times) < REPEATS_MAX and (not times or spent < REPEAT_SECONDS):
     times.append(time.thread_time() - t0)
     spent += times[-1]
     last = (info, int(options.iparam[sn.SICONOS_IPARAM_ITER_DONE]), float(options.dparam[sn.SICONOS_DPARAM_RESIDU]), r)
+calls, spent = [], 0.0
+while q.size <= CALL_MAX_UNKNOWNS and len(calls) < REPEATS_MAX and (not calls or spent < REPEAT_SECONDS):
+    t0 = time.thread_time()           # the whole Python call: options, arrays, driver, results
+    options = sn.SolverOptions(getattr(sn, "SICONOS_FRICTION_3D_" + solver))
+    options.iparam[sn.SICONOS_IPARAM_MAX_ITER] = max_iter
+    options.dparam[sn.SICONOS_DPARAM_TOL] = tol
+    r, u = np.zeros(q.size), np.zeros(q.size)
+    info = sn.fc3d_driver(problem, r, u, options)
+    result = (info, int(options.iparam[sn.SICONOS_IPARAM_ITER_DONE]), float(options.dparam[sn.SICONOS_DPARAM_RESIDU]), r, u)
+    calls.append(time.thread_time() - t0)
+    spent += calls[-1]
 np.save(sys.argv[5], last[3])
 print(json.dumps({"info": int(last[0]), "iterations": last[1], "own_error": last[2], "times": times,
-                  "peak_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}))
+                  "times_call": calls, "peak_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}))
 """
 
 PINOCCHIO_RUNNER = REPEAT_PREAMBLE + r"""

@@ -18,7 +18,10 @@ problem's call is timed hundreds of times), and the median is reported with the 
 ``--time-limit`` CPU seconds (ours, through the callback) or is killed by the kernel after
 ``--peer-limit`` CPU seconds (peers, ``RLIMIT_CPU``). Every answer, the peers'
 included, is measured with our Siconos error (:func:`frictionrules.multicontact.fc3d_error`); a
-run reaches the target when that error is at most the target. Pinocchio stops on its own
+run reaches the target when that error is at most the target. On the tiny files Siconos' whole
+Python call (its options and arrays made, the driver, the results read) is timed too, as the
+rows ``siconos-SOLVER-call``: ours is timed that way (``solve`` from its arguments to its
+``Solution``). Pinocchio stops on its own
 measures: it runs with its tolerances at the target, then at 1e-2 and 1e-4 of it while our
 error of its answer misses the target.
 
@@ -156,6 +159,9 @@ def peer_rows(problem, data: Path, tmp: Path, target: float, limit: float, sic, 
                 break
         rows.append({"solver": f"{family}-{solver}", "iterations": res["iterations"], "error": err,
                      "times": res["times"], "peak_mb": res["peak_mb"], "info": res["info"]})
+        if res.get("times_call"):           # the whole Python call, as ``solve`` is timed
+            from _fclib_report import CALL_SUFFIX
+            rows.append(dict(rows[-1], solver=f"{family}-{solver}{CALL_SUFFIX}", times=res["times_call"]))
     return rows
 
 

@@ -243,40 +243,74 @@ DP_CONE = UserLaw("sqrt(T1**2 + T2**2) - 0.5*N", potential="sqrt(T1**2 + T2**2) 
     (UserLaw("sqrt(T1**2 + T2**2) - 0.4*N", potential="sqrt(T1**2 + T2**2)"), "radial", True),
     (DP_CONE, "radial", True), (LAWS["coulomb_hardening"], "radial", False),
     (EllipticOrthotropic(0.3, 0.6, angle=0.4), "elliptic", False),
-    (LAWS["cap"], "generic", False), (LAWS["wedge"], "generic", False)])
+    (LAWS["cap"], "affine", False), (LAWS["wedge"], "generic", False)])
 def test_return_structure_recognised_from_the_symbolic_form(law, kind, linear):
     """Radial: ∂_v ∇g = 0 and ∂_v h = 0 along v = (-D∇g, h) (closed form where ∂_v ∇f = 0 too);
-    elliptic: g = √(TᵀAT), ∇_T f = c ∇_T g."""
-    from frictionrules._returnspec import RETURN_ELLIPTIC, RETURN_GENERIC, RETURN_RADIAL
+    elliptic: g = √(TᵀAT), ∇_T f = c ∇_T g; affine: ∇g affine in the forces (the cap)."""
+    from frictionrules._returnspec import (RETURN_AFFINE, RETURN_ELLIPTIC, RETURN_GENERIC,
+                                           RETURN_RADIAL)
     from frictionrules.codegen import return_structure
     s = return_structure(form_of(law))
     assert s.kind == {"radial": RETURN_RADIAL, "elliptic": RETURN_ELLIPTIC,
-                      "generic": RETURN_GENERIC}[kind]
+                      "affine": RETURN_AFFINE, "generic": RETURN_GENERIC}[kind]
     assert s.linear == linear
 
 
 @pytest.mark.parametrize("law", [Coulomb(0.4), Coulomb(0.4, dilatant=True), DP_CONE,
                                  LAWS["coulomb_hardening"],
-                                 EllipticOrthotropic(0.3, 0.6, angle=0.4)])
+                                 EllipticOrthotropic(0.3, 0.6, angle=0.4), LAWS["cap"]])
 def test_special_returns_equal_the_newton_return(law):
-    """The radial and elliptic returns against the general Newton return of the same compiled
+    """The radial, elliptic and affine-flow returns against the general Newton return of the same compiled
     kernel (the law's row with the return kind set to the general one), to 1e-12, on random
     increments from a loaded state — elastic, plastic, open and through the apex included."""
     from frictionrules.contact._generated import generated_kernel, law_row
+    from frictionrules.contact._kernel_batch import Batch
     from frictionrules.contact.layout import RET_KIND
     model = ContactModel(law, kn=KN, kt=KT)
     rng = np.random.default_rng(5)
     n = 4000
     q = model._q(model.initial_state(n))
     e = np.column_stack((rng.normal(0, 0.003, (n, 2)), -np.abs(rng.normal(0, 0.01, n))))
-    S = np.ascontiguousarray(np.concatenate((e, np.zeros((n, 3)), q), axis=1))
-    DU = rng.normal(0, 0.01, (n, 3))
+    batch = Batch(e, np.zeros((n, 3)), np.ascontiguousarray(q), rng.normal(0, 0.01, (n, 3)))
     kernel = generated_kernel(law)
     row = law_row(law, KT, KN)
     general = row.copy()
     general[RET_KIND] = 0
-    a, b = kernel.run(row, S, DU, True), kernel.run(general, S, DU, True)
-    assert (a[2] == PLASTIC).sum() > n // 4
-    np.testing.assert_array_equal(a[2], b[2])
-    for x, y in zip((a[0], a[1], a[4]), (b[0], b[1], b[4])):
-        np.testing.assert_allclose(x, y, rtol=1e-12, atol=1e-12 * np.abs(y).max())
+    for tangent in (False, True):
+        a, b = kernel.run(row, batch, tangent), kernel.run(general, batch, tangent)
+        assert (a.status == PLASTIC).sum() > n // 4
+        np.testing.assert_array_equal(a.status, b.status)
+        # Each field to 1e-12 of its scale; the dissipation of the work scale |σ| |Δδ| (an
+        # associated dilatant law dissipates nothing: round-off).
+        work = np.abs(b.force).max() * np.abs(batch.du).max()
+        for field in ("e", "p", "q", "force", "dlam", "dissipation", "slip") + ("tangent",) * tangent:
+            x, y = getattr(a, field), getattr(b, field)
+            scale = work if field == "dissipation" else np.abs(y).max(initial=0.0)
+            np.testing.assert_allclose(x, y, rtol=1e-12, atol=1e-12 * scale, err_msg=field)
+
+
+@pytest.mark.parametrize("dilatant", [False, True])
+def test_hand_written_coulomb_kernel_is_the_derived_return(dilatant):
+    """The hand-written Coulomb kernel (radial return (1.4)–(1.6) in closed form, run where no
+    tangent is asked for) gives the NumPy return mapping derived from the symbolic form and
+    the generated step to 1e-12, on random paths (open, elastic and plastic contacts)."""
+    from frictionrules.contact._generated import generated_step
+    from frictionrules.contact._kernel_batch import batch_of, step_of
+    from frictionrules.contact._kernels import run_kernel
+    law = Coulomb(0.4, dilatant=dilatant)
+    m = ContactModel(law, KN, KT)
+    assert m.kernel() == "coulomb"
+    s = m.initial_state(200)
+    for du in _path(5, 200, 6):
+        a = m.update(s, du)
+        b = m.update(s, du, compiled=False)
+        _compare(a, b, 1e-12, du)
+        e, p, q = s.elastic, s.plastic, m._q(s)
+        hand = step_of(run_kernel(law.closed_form_return(), KT, KN, batch_of(e, p, q, du)))
+        gen, failed, _ = generated_step(law, KT, KN, e, p, q, du, False)
+        assert not failed.any()
+        for field in ("e", "p", "force", "dlam", "status", "dissipation", "slip"):
+            x, y = getattr(hand, field), getattr(gen, field)
+            np.testing.assert_allclose(x, y, rtol=0, atol=1e-12 * max(np.abs(y).max(), 1.0),
+                                       err_msg=field)
+        s = b.state

@@ -15,10 +15,11 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from frictionrules import (FrictionContactProblem, PolishOptions, read_fclib, solve, solve_many,
+from frictionrules import (ADMMOptions, FrictionContactProblem, PolishOptions, read_fclib, solve, solve_many,
                            write_fclib)
 from frictionrules.batch import CSV_HEADER
 from frictionrules.multicontact import METHODS, fc3d_error
+from frictionrules.multicontact._frame import REASONS
 from test_io import FCLIB, needs_fclib
 from test_multicontact import cone_violation
 
@@ -122,10 +123,12 @@ def test_polish_stalls_honestly_far_from_the_solution():
 @pytest.mark.parametrize("name", ["Box_Stacks-i0122-82-5.hdf5", "local_problem_test.hdf5",
                                   "Spheres-i099-356-679.hdf5", "KaplasTower-i1061-4.hdf5"])
 def test_polish_finishes_an_admm_iterate_on_shared_files(name):
-    """ADMM to 1e-4, then the polish to 1e-10; the cone conditions checked directly on (r, u)
-    at the error's scale, independently of the solver and of the error measure."""
+    """ADMM to 1e-5, then the polish to 1e-10; the cone conditions checked directly on (r, u)
+    at the error's scale, independently of the solver and of the error measure. (At 1e-4 the
+    active set of local_problem_test has not settled under the all-stick penalty: the polish
+    halves its error a step and stops.)"""
     p = read_fclib(FCLIB / name)
-    first = solve(p, method="admm", tol=1e-4)
+    first = solve(p, method="admm", tol=1e-5)
     s = solve(p, method="polish", r0=first.r, tol=1e-10)
     assert s.converged and s.error <= 1e-10 and s.iterations <= 10
     assert fc3d_error(p, s.r) == pytest.approx(s.error, rel=1e-6, abs=1e-16)
@@ -154,13 +157,75 @@ def test_auto_never_calls_converged_above_tol(seed, nc, tol, max_iter):
     W = A @ A.T * rng.uniform(0.0, 1.0) + rng.uniform(0.0, 0.1) * np.eye(3 * nc)
     p = FrictionContactProblem(W, rng.normal(size=3 * nc), rng.uniform(0.0, 1.0, nc))
     s = solve(p, tol=tol, max_iter=max_iter)
-    assert s.converged == (s.reason == "converged")
+    assert s.converged == (s.reason == "converged") and s.reason in REASONS
     if s.converged:
         assert fc3d_error(p, s.r) <= tol * (1 + 1e-9)
         np.testing.assert_allclose(s.u, p.W @ s.r + p.q, atol=1e-12 * max(1.0, np.abs(s.u).max()))
 
 
+# ---- ADMM's penalty in the all-stick regime ---------------------------------------------------
+@pytest.mark.parametrize("seed", range(3))
+@pytest.mark.parametrize("nc", [6, 150])
+def test_admm_all_stick_regime_takes_the_small_penalty(seed, nc):
+    """A problem whose solution sticks at every contact (u* = 0, |r*_T| < mu r*_N, built as in
+    ``known_active_set``; dense and sparse factorizations): ADMM with the small penalty
+    recovers r* in a few iterations, fewer than with the spectral penalty alone."""
+    p, r_star = known_active_set(seed, pieces=("stick",) * nc)
+    s = solve(p, method="admm", tol=1e-10)
+    spectral = solve(p, method="admm", tol=1e-10, options=ADMMOptions(rho_stick=0.0))
+    assert s.converged and spectral.converged
+    np.testing.assert_allclose(s.r, r_star, atol=1e-8 * np.abs(r_star).max())
+    assert s.iterations <= 10 and s.iterations < spectral.iterations
+
+
+def test_auto_hands_over_from_admm_only_inside_its_stages():
+    """A mixed problem (stick, slip, open) through ``auto``'s general path (``time_limit``):
+    whatever stages ran, the reason is one of the public ones and the answer is r*."""
+    p, r_star = known_active_set(3, pieces=("stick", "slip", "open") * 8)
+    s = solve(p, tol=1e-12, time_limit=100.0)
+    assert s.converged and s.reason == "converged"
+    np.testing.assert_allclose(s.r, r_star, atol=1e-9 * np.abs(r_star).max())
+
+
 # ---- the small-problem path -------------------------------------------------------------------
+def test_solution_record_is_the_generated_init():
+    """``Solution._record`` (the small path's constructor) gives the record ``Solution(...)``
+    gives: the same fields, frozen."""
+    import dataclasses
+    p, _ = known_active_set(1)
+    s = solve(p, method="nsgs", tol=1e-12)
+    fields = [getattr(s, f.name) for f in dataclasses.fields(s)]
+    fast = type(s)._record(*fields)
+    for f in dataclasses.fields(s):
+        np.testing.assert_array_equal(getattr(fast, f.name), getattr(s, f.name))
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        fast.error = 0.0
+
+
+@pytest.mark.parametrize("method", ["nsgs", "auto", "polish"])
+def test_solve_batch_equals_solve_one_by_one(method):
+    """``solve_batch`` (the small problems in one compiled call) returns what ``solve`` returns
+    problem by problem: reactions, velocities, errors, iterations, histories, stages, reasons;
+    a problem beyond the small path's 16 contacts and a dilatant one go through it too."""
+    from frictionrules import Coulomb, solve_batch
+    rng = np.random.default_rng(7)
+    problems = []
+    for nc in (1, 2, 5, 9, 16, 20):
+        A = rng.normal(size=(3 * nc, 3 * nc))
+        problems.append(FrictionContactProblem(A @ A.T / (3 * nc) + 0.3 * np.eye(3 * nc), rng.normal(size=3 * nc),
+                                               rng.uniform(0.1, 0.9, nc)))
+    problems.append(FrictionContactProblem(np.eye(3), [-1.0, 2.0, 0.0], [Coulomb(0.5, dilatant=True)]))
+    batch = solve_batch(problems, method=method, tol=1e-10)
+    for p, b in zip(problems, batch):
+        s = solve(p, method=method, tol=1e-10)
+        np.testing.assert_array_equal(b.r, s.r)
+        np.testing.assert_array_equal(b.u, s.u)
+        np.testing.assert_array_equal(b.history, s.history)
+        np.testing.assert_array_equal(b.history_iterations, s.history_iterations)
+        assert (b.error, b.iterations, b.method, b.reason, b.converged) == (s.error, s.iterations, s.method,
+                                                                             s.reason, s.converged)
+        assert b.cpu_seconds >= 0.0 and b.seconds >= 0.0
+    assert solve_batch([], method=method) == []
 @pytest.mark.parametrize("method", ["nsgs", "auto", "polish"])
 def test_small_path_agrees_with_the_general_path(method):
     """``time_limit`` sends a problem of <= 16 contacts down the general path: both answers

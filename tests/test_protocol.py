@@ -52,7 +52,7 @@ def test_declared_capabilities_of_the_built_in_laws():
     assert Huber(0.3, 0.5).capabilities == {"symbolic"}
     assert TransformedCoulomb(0.3, 0.5).capabilities == {"symbolic"}
     assert WedgeAsperity(0.3, 0.5).capabilities == {"symbolic"}
-    assert EllipsoidCap(0.6).capabilities == {"symbolic", "closed_form_return"}
+    assert EllipsoidCap(0.6).capabilities == {"symbolic"}
     assert SlipHardening(0.2, 0.1).apply(Coulomb(0.3)).capabilities == {"symbolic", "cone"}
     assert "symbolic" not in FacetSet([[0.0, 0.0, 1.0]], 0.3).capabilities
 

@@ -39,7 +39,7 @@ from .asperities import (FitResult, FittedParameter, ScaleStudy, SurfaceFriction
 from .io import read_fclib, write_fclib
 from .multicontact import (ADMMOptions, FrictionContactProblem, IterationInfo, NewtonOptions,
                            NSGSOptions, PolishOptions, ProxOptions, RelaxationComparison, Solution,
-                           compare_relaxation, solve)
+                           compare_relaxation, solve, solve_batch)
 from .batch import SolveRecord, solve_many
 from .parallel import SweepPoint, sweep
 # elastic-plastic contact with hardening and softening (§4)
@@ -102,6 +102,7 @@ __all__ = [
     # multi-contact problems
     "FrictionContactProblem",
     "solve",
+    "solve_batch",
     "Solution",
     "read_fclib",
     "write_fclib",

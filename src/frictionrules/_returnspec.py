@@ -15,14 +15,23 @@ literals of their own.
 user law written alike get the same answer on every path; the largest value (the upper
 envelope) makes a point elastic only when its whole neighbourhood is, so a return is never
 skipped. A derivative that is not finite there is 0 (the minimal-norm subgradient).
+
+**The line search.** Every Newton iteration of the package that backtracks — the NumPy and
+compiled returns, the force-controlled driver (:func:`frictionrules.drive`) and the grain
+assembly's solver — takes a step of length α when :func:`sufficient_decrease` holds (Armijo's
+rule on the norm of the residual) and halves α otherwise (:func:`backtrack` for the scalar
+iterations; the returns' loops over many contacts apply the same rule elementwise).
 """
 
 from __future__ import annotations
 
+import math
+
 __all__ = ["TOL", "MAX_ITER", "MAX_HALVINGS", "SUFFICIENT_DECREASE", "MAX_SUBSTEP_DEPTH",
            "KINK_RADIUS", "KINK_POINTS", "SCALAR_TOL", "SCALAR_MAX_ITER", "ELASTIC", "PLASTIC",
-           "OPEN", "APEX", "FAILED", "RETURN_GENERIC", "RETURN_RADIAL", "RETURN_ELLIPTIC", "RETURN_SIZE",
-           "kink_circle", "placeholders"]
+           "OPEN", "APEX", "FAILED", "GENERAL", "RETURN_GENERIC", "RETURN_RADIAL",
+           "RETURN_ELLIPTIC", "RETURN_AFFINE", "RETURN_SIZE", "kink_circle", "placeholders",
+           "sufficient_decrease", "backtrack"]
 
 #: Newton tolerance on the dimensionless residual: a few hundred ulps of the force scale, far
 #: below any physical tolerance and reached in one or two quadratic steps from 1e-7.
@@ -54,9 +63,11 @@ SCALAR_MAX_ITER = 200
 #: How a law's return is solved (:func:`frictionrules.codegen.return_structure`, recognised from
 #: its symbolic form): Newton's method on the whole system (any law); the radial return along a
 #: flow direction that does not turn (one scalar equation, closed form where f is linear along
-#: it); the elliptic section's one scalar equation. The two special ones fall back to the
-#: general return where their assumptions fail at a contact (a path through the apex, N < 0).
-RETURN_GENERIC, RETURN_RADIAL, RETURN_ELLIPTIC = 0, 1, 2
+#: it); the elliptic section's one scalar equation; Newton's method on the system reduced to
+#: (Δλ, q) where the forces follow from them in closed form (a flow direction affine in the
+#: forces). The special ones fall back to the general return where their assumptions fail at a
+#: contact (a path through the apex, N < 0, no convergence).
+RETURN_GENERIC, RETURN_RADIAL, RETURN_ELLIPTIC, RETURN_AFFINE = 0, 1, 2, 3
 #: Numbers of a law's return block: kind, linear flag, cos and sin of the principal frame and
 #: the eigenvalues of A, and the ratio c of the elliptic return.
 RETURN_SIZE = 7
@@ -66,6 +77,35 @@ ELASTIC, PLASTIC, OPEN = 0, 1, 2
 #: Outcomes of one return inside the compiled and exported updates: a return that ends at the
 #: apex of a cone (reported as OPEN), and a Newton iteration that failed (the step is halved).
 APEX, FAILED = 3, -1
+#: What a law's generated step returns for a contact it leaves to the general return (a limit
+#: condition that is not finite at the trial, a return through the apex, N <= 0 on the way).
+GENERAL = -2
+
+
+def sufficient_decrease(trial, merit, alpha):
+    r"""Armijo's rule: a step of length ``alpha`` (a fraction of Newton's step) is taken when
+    the merit (the norm of the residual, >= 0) falls to
+    :math:`\|R(x + \alpha d)\| \le (1 - c\,\alpha)\,\|R(x)\|`, ``c`` =
+    :data:`SUFFICIENT_DECREASE`, and is finite.
+
+    Plain arithmetic and comparisons: the same function for scalars, NumPy arrays (elementwise)
+    and compiled code (Numba compiles it where a kernel calls it).
+    """
+    return (trial < math.inf) & (trial <= (1.0 - SUFFICIENT_DECREASE * alpha) * merit)
+
+
+def backtrack(evaluate, accept, alpha: float, tries: int):
+    """The backtracking line search of a scalar Newton iteration: ``evaluate(α)`` at
+    ``α = alpha, alpha/2, ...`` (``tries`` values) until ``accept(value, α)`` (usually
+    :func:`sufficient_decrease` of the value's merit). Returns ``(α, value, accepted)``: the
+    first accepted step, else the last one tried with ``accepted`` false."""
+    for k in range(tries):
+        if k:
+            alpha *= 0.5
+        value = evaluate(alpha)
+        if accept(value, alpha):
+            return alpha, value, True
+    return alpha, value, False
 
 
 def kink_circle(T1, T2, N):

@@ -19,6 +19,7 @@ solves) is done before the first problem is timed and reported apart, as the rec
 from __future__ import annotations
 
 import csv
+import dataclasses
 import functools
 import io
 import time
@@ -29,7 +30,7 @@ import numpy as np
 
 from .errors import FrictionRulesError, check_scalar
 from .io import read_fclib, read_guess, read_solution, write_solution
-from .multicontact import METHODS, FrictionContactProblem, Solution, solve
+from .multicontact import METHODS, FrictionContactProblem, Solution, solve, solve_batch
 
 __all__ = ["solve_many", "SolveRecord", "CSV_HEADER", "read_table"]
 
@@ -142,32 +143,49 @@ def _start_up(method: str) -> float:
     return time.perf_counter() - t0
 
 
-def _solve_one(job, startup: float) -> SolveRecord:
-    """Read (if a path), warm-start and solve one problem; a bad file gives a record with its
-    message instead of raising."""
-    item, name, kwargs, warm, callback = job
+def _read(job):
+    """``(problem, r0)`` of one job, or the record of a file that cannot be read."""
+    item, name, kwargs, warm, _callback = job
     method = kwargs["method"]
     try:
         problem = item if isinstance(item, FrictionContactProblem) else read_fclib(item)
-        r0 = _warm_start(item, name, warm, 3 * problem.nc)
+        return problem, _warm_start(item, name, warm, 3 * problem.nc)
     except (FrictionRulesError, OSError) as exc:
         return SolveRecord(name, 0, method, 0, None, False, "bad input", 0.0, requested=method,
-                           message=str(exc).splitlines()[0] if str(exc) else type(exc).__name__,
-                           startup_seconds=startup)
-    per_iteration = None if callback is None else (lambda info: callback(name, info))
-    s = solve(problem, r0=r0, callback=per_iteration, **kwargs)
+                           message=str(exc).splitlines()[0] if str(exc) else type(exc).__name__), None
+
+
+def _record(name, problem, s, method, startup) -> SolveRecord:
     return SolveRecord(name, problem.nc, s.method, s.iterations, s.error, s.converged, s.reason, s.seconds,
                        solution=s, requested=method, cpu_seconds=s.cpu_seconds, startup_seconds=startup)
 
 
 def _solve_batch(jobs) -> list[SolveRecord]:
-    """The problems of one task, after the process's start-up (timed apart)."""
+    """The problems of one task, after the process's start-up (timed apart). Without warm
+    starts, callbacks and time limits they go through :func:`~frictionrules.solve_batch` (the
+    small ones in one compiled call), else one :func:`~frictionrules.solve` each."""
     fresh = _start_up.cache_info().currsize == 0
-    startup = _start_up(jobs[0][2]["method"])
-    out = []
-    for k, job in enumerate(jobs):
-        out.append(_solve_one(job, startup if fresh and k == 0 else 0.0))
+    kwargs = jobs[0][2]
+    startup = _start_up(kwargs["method"])
+    read = [_read(job) for job in jobs]
+    out: list = [p if isinstance(p, SolveRecord) else None for p, _r0 in read]
+    todo = [k for k, rec in enumerate(out) if rec is None]
+    plain = kwargs["time_limit"] is None and all(read[k][1] is None and jobs[k][4] is None for k in todo)
+    if plain:
+        solutions = solve_batch([read[k][0] for k in todo], kwargs["method"], kwargs["tol"], kwargs["max_iter"])
+    else:
+        solutions = [solve(read[k][0], r0=read[k][1], **kwargs,
+                           callback=None if jobs[k][4] is None else functools.partial(_named, jobs[k][4], jobs[k][1]))
+                     for k in todo]
+    for k, s in zip(todo, solutions):
+        out[k] = _record(jobs[k][1], read[k][0], s, kwargs["method"], 0.0)
+    if fresh and out:
+        out[0] = dataclasses.replace(out[0], startup_seconds=startup)
     return out
+
+
+def _named(callback, name, info):
+    return callback(name, info)
 
 
 def _parameters(kwargs, warm_start) -> tuple:

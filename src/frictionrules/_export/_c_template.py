@@ -7,7 +7,7 @@ apex of a cone, the consistent tangent (the σ-block of the inverse Jacobian tim
 substepping of :class:`~frictionrules.ContactModel` where Newton fails (halving).
 ``@NAME@`` is replaced by the function prefix, the other ``@...@`` by the numbers and codes of
 :mod:`frictionrules._returnspec` (one home for every return mapping). The enum constants (``NQ``, ``SIZE``, the
-offsets ``OFF_*``, ``CLIP``, ``KAPPA``) and ``local_f``, ``local_first``, ``local_full`` come
+offsets ``OFF_*``, ``CLIP``, ``HAS_KAPPA``, ``KAPPA``) and ``local_f``, ``local_first``, ``local_full`` come
 before this text.
 """
 
@@ -357,7 +357,7 @@ static int step_once(const double *params, const double *s, const double *du, do
     }
     for (j = 0; j < NQ; j++)
         out[6 + j] = q1[j];
-    if (apex && KAPPA >= 0)
+    if (apex && HAS_KAPPA)
         out[6 + KAPPA] = s[6 + KAPPA] + sqrt(et[0] * et[0] + et[1] * et[1]);
     if (tangent != NULL) {
         for (a = 0; a < 9; a++)

@@ -25,7 +25,8 @@ def law_functions_c(spec) -> str:
     from ..codegen import c_function, c_helpers, local_layout, local_program
     layout = local_layout(spec.nq)
     consts = [f"    NQ = {spec.nq}", f"    SIZE = {local_program(spec.form, 'f').size}",
-              f"    CLIP = {int(spec.clip)}", f"    KAPPA = {spec.kappa}"]
+              f"    CLIP = {int(spec.clip)}", f"    HAS_KAPPA = {int(spec.has_kappa)}",
+              f"    KAPPA = {spec.kappa}"]
     consts += [f"    OFF_{k.upper()} = {off}" for k, (off, _) in layout.items() if k != "f"]
     prefix = spec.name
     out = ["enum {", ",\n".join(consts), "};", "", c_helpers(prefix)]

@@ -1,15 +1,15 @@
 """The return mapping in fixed-form Fortran 77: the text the Abaqus targets write after the
 law's local subroutines.
 
-Line for line the algorithm of the compiled return mapping (``contact/_return_kernel.py``)
-and of the C target (``_c_template.py``): limit check, Newton on the dimensionless residual
-with a backtracking line search, apex of a cone, consistent tangent. ``@P@`` is replaced by the
-prefix of the law's names and ``@PARAMS@`` by the PARAMETER statements of the layout (``NQ``,
-``NQS``, ``M``, ``NSIZE``, ``ICLIP``, ``KAPPA``, the offsets ``OFF*``, the status codes
+Line for line the algorithm of the compiled return mapping (``contact/_return_kernel.py``) and
+of the C target (``_c_template.py``): limit check, Newton on the dimensionless residual with a
+backtracking line search, apex of a cone, consistent tangent. ``@P@`` is replaced by the prefix
+of the law's names and ``@PARAMS@`` by the PARAMETER statements of the layout (``NQ``, ``NQS``,
+``M``, ``NSIZE``, ``ICLIP``, ``HASKAP``, ``KAPPA``, the offsets ``OFF*``, the status codes
 ``KELAS``, ``KPLAS``, ``KOPEN``, ``KAPEX``, ``KFAIL`` and the substep depth ``MAXDEP``), the
 other ``@...@`` by the numbers of :mod:`frictionrules._returnspec` (one home for the NumPy,
-Numba, C and Fortran returns). Every name is declared
-(``IMPLICIT NONE``); no line passes column 72.
+Numba, C and Fortran returns). Every name is declared (``IMPLICIT NONE``); no line passes
+column 72.
 """
 
 CORE = """\

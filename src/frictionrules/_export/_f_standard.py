@@ -31,7 +31,7 @@ C
       INTEGER KIND, IDEPTH, IPOS, IFULL, I, J, NQV, KAP
       DATA Q0 /@Q0@/
       NQV = NQ
-      KAP = KAPPA
+      KAP = HASKAP
       IF (.FALSE.) WRITE (*, *) TAULM(1), SLIP(1), KSTEP, KINC, TIME,
      &     DTIME, NOEL, CINAME, SLNAME, MSNAME, NPT, NODE, NPATCH,
      &     COORDS(1), RCOORD(1), DROT(1, 1), TEMP(1), PREDEF(1, 1),
@@ -120,7 +120,7 @@ C     linear over the increment from PRESS - DPRESS to PRESS.
             EN(2) = 0.0D0
             SIG(1) = 0.0D0
             SIG(2) = 0.0D0
-            IF (KAP .GE. 0) QN(KAP + 1) = Q(KAP + 1)
+            IF (KAP .EQ. 1) QN(KAPPA + 1) = Q(KAPPA + 1)
      &           + SQRT(ET(1)**2 + ET(2)**2)
          END IF
       END IF
@@ -193,7 +193,7 @@ C
       DATA IS /3, 1, 2/, IR /3, 1, 2/
       DATA Q0 /@Q0@/
       NQV = NQ
-      KAP = KAPPA
+      KAP = HASKAP
       IF (.FALSE.) WRITE (*, *) TEMP(1), DTEMP(1), PREDEF(1, 1),
      &     DPRED(1, 1), TIME(1), DTIME, FREQR, CINAME, SLNAME, MSNAME,
      &     COORDS(1), ALOCALDIR(1, 1), DROT(1, 1), AREA, CHRLNGTH,
@@ -282,8 +282,8 @@ C        Open, or a return that ends at the apex of a cone.
          DO 62 J = 1, NQV
             QN(J) = Q(J)
    62    CONTINUE
-         IF (KIND .EQ. KAPEX .AND. KAP .GE. 0) QN(KAP + 1) = Q(KAP + 1)
-     &        + SQRT(ET(1)**2 + ET(2)**2)
+         IF (KIND .EQ. KAPEX .AND. KAP .EQ. 1) QN(KAPPA + 1) =
+     &        Q(KAPPA + 1) + SQRT(ET(1)**2 + ET(2)**2)
          IF (KIND .EQ. KAPEX) KIND = KOPEN
       END IF
       DO 65 I = 1, 3

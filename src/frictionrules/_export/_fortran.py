@@ -36,7 +36,7 @@ def parameter_block(spec) -> str:
     layout = local_layout(spec.nq)
     values = {"NQ": spec.nq, "NQS": max(spec.nq, 1), "M": 4 + spec.nq,
               "NSIZE": local_program(spec.form, "f").size, "ICLIP": int(spec.clip),
-              "KAPPA": spec.kappa}
+              "HASKAP": int(spec.has_kappa), "KAPPA": spec.kappa}
     values |= {f"OFF{k.upper()}": off for k, (off, _) in layout.items() if k != "f"}
     values |= {"KELAS": ELASTIC, "KPLAS": PLASTIC, "KOPEN": OPEN, "KAPEX": APEX, "KFAIL": FAILED,
                "MAXDEP": MAX_SUBSTEP_DEPTH}

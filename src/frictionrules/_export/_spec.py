@@ -57,10 +57,15 @@ class LawSpec:
         return not self.law.defined_in_tension
 
     @property
+    def has_kappa(self) -> bool:
+        """One of the internal variables is the accumulated slip κ."""
+        return "kappa" in self.state_names
+
+    @property
     def kappa(self) -> int:
-        """Index of the accumulated slip κ among the internal variables, -1 if none."""
-        names = self.state_names
-        return names.index("kappa") if "kappa" in names else -1
+        """Index of the accumulated slip κ among the internal variables (0 where
+        :attr:`has_kappa` is false: an index never read)."""
+        return self.state_names.index("kappa") if self.has_kappa else 0
 
     @property
     def initial(self) -> tuple[float, ...]:

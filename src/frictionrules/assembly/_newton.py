@@ -26,6 +26,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._returnspec import backtrack, sufficient_decrease
+
 __all__ = ["MECHANISM", "newton_direction", "line_search", "along_mechanism", "rattlers",
            "PERMC_SPEC", "PIVOT_THRESHOLD"]
 
@@ -110,8 +112,9 @@ def newton_direction(B, S, S_elastic, R, dense: bool, *, permc_spec: str = PERMC
 
 
 def accepts(trial, ev, t: float, rtol: float) -> bool:
-    """Armijo's sufficient decrease of the merit (or convergence) at step length ``t``."""
-    return trial.residual <= rtol or trial.merit < (1 - 1e-4 * t) * ev.merit
+    """Armijo's sufficient decrease of the merit (:func:`frictionrules._returnspec.
+    sufficient_decrease`) or convergence at step length ``t``."""
+    return trial.residual <= rtol or bool(sufficient_decrease(trial.merit, ev.merit, t))
 
 
 def first_change(evaluate, x, d, status, lo: float, hi: tuple) -> tuple:
@@ -145,14 +148,10 @@ def line_search(evaluate, x, dx, ev, rtol: float):
         t, first = first_change(evaluate, x, dx, ev.status, 0.0, (1.0, trial))
         if accepts(first, ev, t, rtol):
             best = (x + t * dx, first, t)
-    t = 1.0
-    for _ in range(HALVINGS):
-        t *= 0.5
-        trial = evaluate(x + t * dx)
-        if accepts(trial, ev, t, rtol):
-            if best is None or trial.merit < best[1].merit:
-                best = (x + t * dx, trial, t)
-            break
+    t, trial, ok = backtrack(lambda t: evaluate(x + t * dx),
+                             lambda trial, t: accepts(trial, ev, t, rtol), 0.5, HALVINGS)
+    if ok and (best is None or trial.merit < best[1].merit):
+        best = (x + t * dx, trial, t)
     return best
 
 

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-__all__ = ["python_function", "parameter_temps"]
+__all__ = ["python_function", "parameter_temps", "python_block"]
 
 
 def parameter_temps(program) -> tuple:
@@ -20,6 +20,24 @@ def parameter_temps(program) -> tuple:
     return tuple(out)
 
 
+def _printer():
+    """SymPy's Python printer, with a power to a half-integer exponent written through
+    ``math.sqrt`` (``x**(3/2)`` is ``x*math.sqrt(x)``, not a call of ``pow``)."""
+    from sympy.printing.pycode import PythonCodePrinter
+
+    class Printer(PythonCodePrinter):
+        def _print_Pow(self, expr, rational=False):
+            e = expr.exp
+            if e.is_Rational and e.q == 2 and abs(e.p) > 1:
+                k = (abs(e.p) - 1) // 2
+                base = self.parenthesize(expr.base, 100) + ("" if k == 1 else f"**{k}")
+                whole = f"{base}*math.sqrt({self._print(expr.base)})"
+                return f"({whole})" if e.p > 0 else f"(1/({whole}))"
+            return super()._print_Pow(expr, rational=rational)
+
+    return Printer({"fully_qualified_modules": True, "standard": "python3"})
+
+
 def python_function(program, name: str, decorator: str = "", finite_derivatives: bool = False,
                     hoisted_offset: int | None = None) -> str:
     """Source of ``def name(x0, x1, x2, q, p, w)`` writing the program's outputs into ``w``.
@@ -33,9 +51,7 @@ def python_function(program, name: str, decorator: str = "", finite_derivatives:
     ``hoisted_offset``, the :func:`parameter_temps` are read from ``p[hoisted_offset + k]``
     instead of being recomputed (the caller appends their values to the parameters).
     """
-    from sympy.printing.pycode import PythonCodePrinter
-
-    printer = PythonCodePrinter({"fully_qualified_modules": True, "standard": "python3"})
+    printer = _printer()
     lines = [decorator] if decorator else []
     lines.append(f"def {name}(x0, x1, x2, q, p, w):")
     lines += [f"    q{i} = q[{i}]" for i in range(program.nq)]
@@ -55,3 +71,15 @@ def python_function(program, name: str, decorator: str = "", finite_derivatives:
         lines.append(f"    w[{k}] = {value}")
     lines.append("    return 0")
     return "\n".join(lines) + "\n"
+
+
+def python_block(program, indent: str, hoisted: dict, param: str = "p[{}]") -> list[str]:
+    """Lines assigning a piece's temporaries and named outputs. ``hoisted`` maps parameter-only
+    temporaries to their index among the parameter values (read as ``param.format(index)``)."""
+    printer = _printer()
+    lines = []
+    for sym, expr in program.temps:
+        value = param.format(hoisted[sym]) if sym in hoisted else printer.doprint(expr)
+        lines.append(f"{indent}{sym} = {value}")
+    lines += [f"{indent}{name} = {printer.doprint(expr)}" for name, expr in program.outputs]
+    return lines

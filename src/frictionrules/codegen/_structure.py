@@ -21,6 +21,14 @@ unchanged, and the one scalar equation
 :math:`\sum_i \alpha_i a_i^2/(1 + x\alpha_i)^2 = R^2`, :math:`R = g^{tr} - f^{tr}/c`, convex and
 decreasing in x: Newton's iteration from x = 0 converges monotonically.
 
+**Affine flow.** Where ∇g is affine in the forces with a diagonal Hessian that does not
+depend on them, :math:`\nabla g = H(q)\sigma + c(q)`, :math:`H = \mathrm{diag}(H_{11}, H_{22},
+H_{33})` (the ellipsoidal cap (4.9)), the forces follow from Δλ and q in closed form,
+:math:`\sigma_a = (\sigma^{tr}_a - \Delta\lambda D_a c_a)/(1 + \Delta\lambda D_a H_{aa})`, and
+Newton's method solves the reduced system :math:`f(\sigma, q) = 0`,
+:math:`q - q_n - \Delta\lambda h(\sigma, q) = 0` in :math:`(\Delta\lambda, q)`: 1 + nq
+unknowns instead of 4 + nq.
+
 Each identity is checked first numerically at random points (a quick no) and then proved with
 SymPy (a law whose identity SymPy cannot prove keeps the general return).
 """
@@ -32,7 +40,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._returnspec import RETURN_ELLIPTIC, RETURN_GENERIC, RETURN_RADIAL, RETURN_SIZE
+from .._returnspec import (RETURN_AFFINE, RETURN_ELLIPTIC, RETURN_GENERIC, RETURN_RADIAL,
+                          RETURN_SIZE)
 
 __all__ = ["ReturnStructure", "return_structure", "return_constants"]
 
@@ -44,7 +53,7 @@ class ReturnStructure:
     Attributes
     ----------
     kind : int
-        ``RETURN_GENERIC``, ``RETURN_RADIAL`` or ``RETURN_ELLIPTIC``.
+        ``RETURN_GENERIC``, ``RETURN_RADIAL``, ``RETURN_ELLIPTIC`` or ``RETURN_AFFINE``.
     linear : bool
         Radial: f is linear along the return path (the return in closed form).
     A, c : sympy expressions or None
@@ -122,10 +131,22 @@ def _elliptic(form, points):
     return ReturnStructure(RETURN_ELLIPTIC, A=(A[0][0], A[0][1], A[1][1]), c=c)
 
 
+def _affine(form, points):
+    import sympy
+    x = list(form.variables)
+    hess = [[sympy.diff(form.g, a, b) for b in x] for a in x]
+    if not all(_zero(hess[a][b], points) for a in range(3) for b in range(3) if a != b):
+        return None
+    if not all(_zero(sympy.diff(hess[a][a], s), points) for a in range(3) for s in x):
+        return None
+    return ReturnStructure(RETURN_AFFINE)
+
+
 @functools.lru_cache(maxsize=256)
 def _structure(key, form) -> ReturnStructure:
     points = _points(list(form.variables) + list(form.state) + list(form.params))
-    return _radial(form, points) or _elliptic(form, points) or ReturnStructure(RETURN_GENERIC)
+    return (_radial(form, points) or _elliptic(form, points) or _affine(form, points)
+            or ReturnStructure(RETURN_GENERIC))
 
 
 def return_structure(form) -> ReturnStructure:

@@ -1,5 +1,6 @@
-"""The compiled return mapping's access to a law: its generated local functions called by
-address (:data:`LOCAL_SIGNATURE`), the offsets of their flat layout, and the kink rule."""
+"""The compiled return mapping's access to a law: its generated local functions
+(:data:`LOCAL_SIGNATURE`) and its generated step (:data:`STEP_SIGNATURE`) called by address,
+the offsets of the local functions' flat layout, and the kink rule."""
 
 import math
 
@@ -15,6 +16,17 @@ from .._returnspec import KINK_RADIUS as _KINK_RADIUS
 _PTR = types.CPointer(types.float64)
 #: C signature of a law's local function ``(T1, T2, N, *q, *p, *w) -> 0`` (a Numba ``cfunc``).
 LOCAL_SIGNATURE = types.int64(types.float64, types.float64, types.float64, _PTR, _PTR, _PTR)
+#: C signature of a law's generated step ``(*s, *du, *law, *s1, *res, *tan, want_tangent) ->
+#: status`` on the named rows of :mod:`frictionrules.contact.layout` (``tan`` row-major 3 × 3):
+#: ``ELASTIC``, ``PLASTIC``, ``OPEN``, or ``GENERAL`` where the general return takes over.
+STEP_SIGNATURE = types.int64(_PTR, _PTR, _PTR, _PTR, _PTR, _PTR, types.int64)
+
+
+def _data(context, builder, signature, args, first):
+    """Pointers to the data of the array arguments from ``first`` on."""
+    dbl = ir.DoubleType()
+    return [builder.bitcast(context.make_array(t)(context, builder, v).data, dbl.as_pointer())
+            for t, v in zip(signature.args[first:], args[first:])]
 
 
 @intrinsic
@@ -26,10 +38,23 @@ def _call_local(typingctx, address, x0, x1, x2, q, p, w):
     def codegen(context, builder, signature, args):
         dbl = ir.DoubleType()
         fnty = ir.FunctionType(ir.IntType(64), [dbl, dbl, dbl] + [dbl.as_pointer()] * 3)
-        data = [builder.bitcast(context.make_array(t)(context, builder, v).data, dbl.as_pointer())
-                for t, v in zip(signature.args[4:], args[4:])]
         fn = builder.inttoptr(args[0], fnty.as_pointer())
-        return builder.call(fn, list(args[1:4]) + data)
+        return builder.call(fn, list(args[1:4]) + _data(context, builder, signature, args, 4))
+
+    return sig, codegen
+
+
+@intrinsic
+def _call_step(typingctx, address, s, du, law, s1, res, tan, want):
+    """Call the step at ``address`` (:data:`STEP_SIGNATURE`) with the data of the arrays (C
+    order) and ``want`` (an int64)."""
+    sig = types.int64(address, s, du, law, s1, res, tan, want)
+
+    def codegen(context, builder, signature, args):
+        dbl = ir.DoubleType()
+        fnty = ir.FunctionType(ir.IntType(64), [dbl.as_pointer()] * 6 + [ir.IntType(64)])
+        fn = builder.inttoptr(args[0], fnty.as_pointer())
+        return builder.call(fn, _data(context, builder, signature, args[:7], 1) + [args[7]])
 
     return sig, codegen
 

@@ -9,9 +9,13 @@ from numba import njit
 
 from .._returnspec import MAX_HALVINGS as _MAX_HALVINGS
 from .._returnspec import MAX_ITER as _MAX_ITER
-from .._returnspec import SUFFICIENT_DECREASE as _SUFFICIENT_DECREASE
 from .._returnspec import TOL as _TOL
+from .._returnspec import sufficient_decrease as _sufficient_decrease
 from ._kernel_law import _eval, _layout
+
+#: Armijo's rule of every compiled line search: the specification's own function, compiled.
+sufficient_decrease = njit(inline="always", error_model="numpy", _nrt=False)(
+    _sufficient_decrease)
 
 
 @njit(inline="always", error_model="numpy", _nrt=False)
@@ -195,7 +199,7 @@ def _return(lf, l1, l2, clip, sig_tr, qn, p, dv, V, w, wk, J, piv):
                 xk[a] = x[a] + alpha * step[a]
             _eval(lf, l1, l2, clip, xk[0], xk[1], xk[2], xk[3:3 + NQ], p, wk, 1)
             mk = _residual(wk, xk, sig_tr, qn, dv, rows, Rk)
-            if math.isfinite(mk) and mk <= (1.0 - _SUFFICIENT_DECREASE * alpha) * merit:
+            if sufficient_decrease(mk, merit, alpha):
                 for a in range(_M):
                     x[a] = xk[a]
                     R[a] = Rk[a]

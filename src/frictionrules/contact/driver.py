@@ -15,12 +15,17 @@ from pathlib import Path as _FilePath
 
 import numpy as np
 
+from .._returnspec import backtrack, sufficient_decrease
 from ..errors import FrictionRulesError, check_finite
 from .model import ContactModel
 from .state import OPEN, ContactState
 
 __all__ = ["DriveResult", "Path", "drive", "read_path", "read_toml"]
 
+#: Steps tried by the line search of a force-controlled step (Newton's step down to 2^-29 of
+#: it): the response is piecewise smooth, and a step that only crosses into another piece
+#: (elastic, plastic, open) may need many halvings to decrease the residual.
+DRIVER_HALVINGS = 30
 #: Component pairs (force name, displacement name) in the order (t1, t2, n).
 PAIRS = (("T1", "dt1"), ("T2", "dt2"), ("N", "dn"))
 _NAMES = {name: (i, k == 0) for i, pair in enumerate(PAIRS) for k, name in enumerate(pair)}
@@ -236,17 +241,20 @@ def drive(model: ContactModel, path, state: ContactState | None = None, *, beta=
                     J = E[np.ix_(fc, fc)]
                 step = np.linalg.solve(J, r)
                 # Backtracking: the response is only piecewise smooth (elastic, plastic, open),
-                # and full Newton steps can cycle between pieces.
+                # and full Newton steps can cycle between pieces; the last step tried is
+                # taken when none decreases the residual enough.
                 norm = np.linalg.norm(r)
-                alpha = 1.0
-                for _ in range(30):
+
+                def evaluate(alpha, du=du, step=step):
                     trial = du.copy()
                     trial[fc] -= alpha * step
-                    new = model.update(state, trial, tangent=True)
-                    if np.linalg.norm(_extended_force(model, new)[fc] - target[fc]) <= (1 - 1e-4 * alpha) * norm:
-                        break
-                    alpha *= 0.5
-                du, res = trial, new
+                    return trial, model.update(state, trial, tangent=True)
+
+                def accept(value, alpha, norm=norm):
+                    miss = np.linalg.norm(_extended_force(model, value[1])[fc] - target[fc])
+                    return sufficient_decrease(miss, norm, alpha)
+
+                _, (du, res), _ = backtrack(evaluate, accept, 1.0, DRIVER_HALVINGS)
         state = res.state
         work += float(res.dissipation)
         rows.append((res.force, state, work, int(res.status)))

@@ -32,7 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._returnspec import KINK_POINTS, MAX_HALVINGS, MAX_ITER, SUFFICIENT_DECREASE, TOL, kink_circle
+from .._returnspec import KINK_POINTS, MAX_HALVINGS, MAX_ITER, TOL, kink_circle, sufficient_decrease
 from ..laws import LocalDerivatives
 from ..laws.base import safe_ratio
 
@@ -195,7 +195,7 @@ def return_map(surface, sigma_tr, q_n, Dv) -> ReturnResult:
             loc_k = surface.evaluate(sig_k, q_k)
             R_k = _residual(loc_k, sig_k, q_k, lam_k, sigma_tr[k], q_n[k], Dv) * rows[k]
             m_k = np.linalg.norm(R_k, axis=-1)
-            accept = np.isfinite(m_k) & (m_k <= (1 - SUFFICIENT_DECREASE * alpha[pending]) * merit[k])
+            accept = sufficient_decrease(m_k, merit[k], alpha[pending])
             acc = k[accept]
             sigma[acc], q[acc], dlam[acc] = sig_k[accept], q_k[accept], lam_k[accept]
             R[acc], merit[acc] = R_k[accept], m_k[accept]

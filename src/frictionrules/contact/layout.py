@@ -1,5 +1,5 @@
-r"""Named layouts of the compiled contact update: one law's row, one contact's state row and
-one contact's result row.
+r"""Named layouts of the compiled contact update: one law's functions and row, one contact's
+state row and one contact's result row.
 
 The compiled update of a contact (:func:`frictionrules.contact._return_kernel.contact_update`,
 the one entry every compiled consumer calls: :meth:`ContactModel.update`, the grain
@@ -8,6 +8,10 @@ offsets named here, so that a caller never passes positional lists of arrays and
 a field by a bare number.
 
 ==========  ======================================================================
+law fn      addresses of the law's generated functions (``int64``): ``f`` the limit
+            condition, ``first`` the residual's quantities, ``full`` the Jacobian's
+            (:func:`frictionrules.codegen.local_layout`), ``step`` the whole step of
+            a contact (:mod:`frictionrules.contact._step_source`)
 law row     ``kt, kn`` stiffnesses (4.2); ``clip`` 1 for a law evaluated at
             ``max(N, 0)``; ``nq`` internal variables; ``has_kappa`` 1 when one of them
             is the accumulated slip κ, ``kappa`` its column; ``ret`` the block of how
@@ -30,12 +34,16 @@ from __future__ import annotations
 
 from .._returnspec import RETURN_SIZE
 
-__all__ = ["LAW_KT", "LAW_KN", "LAW_CLIP", "LAW_NQ", "LAW_HAS_KAPPA", "LAW_KAPPA", "LAW_RET",
-           "RET_KIND", "RET_LINEAR", "RET_COS", "RET_SIN", "RET_ALPHA1", "RET_ALPHA2", "RET_C",
+__all__ = ["FN_F", "FN_FIRST", "FN_FULL", "FN_STEP", "FN_SIZE", "LAW_KT", "LAW_KN", "LAW_CLIP",
+           "LAW_NQ", "LAW_HAS_KAPPA", "LAW_KAPPA", "LAW_RET", "RET_KIND", "RET_LINEAR", "RET_COS", "RET_SIN", "RET_ALPHA1", "RET_ALPHA2", "RET_C",
            "LAW_PARAMS",
            "STATE_E", "STATE_P", "STATE_Q", "state_size", "RES_FORCE", "RES_DLAM",
            "RES_DISSIPATION", "RES_SLIP", "RES_SIZE", "LAW_FIELDS", "STATE_FIELDS",
            "RESULT_FIELDS"]
+
+#: Entries of a law's array of function addresses.
+FN_F, FN_FIRST, FN_FULL, FN_STEP = range(4)
+FN_SIZE = 4
 
 #: Fields of a law's row before its parameters, in order.
 LAW_FIELDS = ("kt", "kn", "clip", "nq", "has_kappa", "kappa")

@@ -64,8 +64,8 @@ class ContactModel:
     generated from its symbolic form (Numba; built once per law structure and cached on disk,
     see :mod:`frictionrules.contact._generated`), which also gives the consistent tangent; a
     law that offers a hand-written compiled return (capability ``"closed_form_return"``:
-    Coulomb, elliptic orthotropic, the default cap) runs that instead when no tangent is asked
-    for. Without Numba, and with ``compiled=False``, the return mapping runs in NumPy.
+    Coulomb) runs that instead when no tangent is asked for. Without Numba, and with
+    ``compiled=False``, the return mapping runs in NumPy.
     """
 
     law: FrictionLaw
@@ -240,8 +240,11 @@ class ContactModel:
         name = self.kernel() if compiled else None
         tan = None
         if name is not None and not tangent:
+            from ._kernel_batch import batch_of, step_of
             from ._kernels import run_kernel
-            step, failed = run_kernel(self.effective_law.closed_form_return(), self.kt, self.kn, e, p, q, du)
+            out = run_kernel(self.effective_law.closed_form_return(), self.kt, self.kn,
+                             batch_of(e, p, q, du))
+            step, failed = step_of(out), out.failed
         elif compiled and _has_numba():
             from ._generated import generated_step
             step, failed, tan = generated_step(self.effective_law, self.kt, self.kn, e, p, q, du,

@@ -144,7 +144,7 @@ class EllipsoidCap(FrictionLaw):
     normal_ratio: float = parameter("weight of the normal part of g", lo=0.0, lo_open=True,
                                     default=1.0)
     state_names = ("kappa", "beta")
-    capabilities = frozenset({"symbolic", "closed_form_return"})
+    capabilities = frozenset({"symbolic"})
     defined_in_tension = True
 
     @property
@@ -184,12 +184,6 @@ class EllipsoidCap(FrictionLaw):
         return SymbolicLaw(f, g, state=(kappa, beta), rates=rates, params=(m, om, p, h, kh, b),
                            values=(self.m, self.normal_ratio, self.A.p, self.A.h, self.A.kappa_h,
                                    self.B.b))
-
-    def closed_form_return(self):
-        """The reduced Newton return of the compiled cap kernel (default A, B)."""
-        from ._records import ClosedFormReturn
-        return ClosedFormReturn("cap", (self.m, self.normal_ratio, self.A.p, self.A.h,
-                                        self.A.kappa_h, self.B.b))
 
     def _cap_state(self, q, beta):
         """``q`` as given, or the separate ``(kappa, beta)`` arguments as a state."""

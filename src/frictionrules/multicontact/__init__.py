@@ -13,10 +13,10 @@ Numba kernels are imported when a solver first runs. Batches of FCLIB files are 
 from ._methods import METHODS, SolverMethod
 from ._options import ADMMOptions, IterationInfo, NewtonOptions, NSGSOptions, PolishOptions, ProxOptions
 from ._relaxation import RelaxationComparison, compare_relaxation
-from ._solve import solve, thread_limits
+from ._solve import solve, solve_batch, thread_limits
 from .error import fc3d_error, project_cone
 from .problem import FrictionContactProblem, Solution
 
-__all__ = ["FrictionContactProblem", "Solution", "solve", "fc3d_error", "project_cone", "METHODS",
+__all__ = ["FrictionContactProblem", "Solution", "solve", "solve_batch", "fc3d_error", "project_cone", "METHODS",
            "SolverMethod", "NSGSOptions", "NewtonOptions", "ProxOptions", "ADMMOptions", "PolishOptions",
            "IterationInfo", "compare_relaxation", "RelaxationComparison", "thread_limits"]

@@ -22,9 +22,17 @@ REASONS = ("converged", "max_iter", "time_limit", "callback", "unbounded", "stal
 #: shared FCLIB files the solutions have |r| mean|diag W| / |q| between 0.03 and 45.
 UNBOUNDED = 1e6
 
+#: Errors over which :meth:`_Monitor.predicted` measures a stage's linear rate.
+RATE_POINTS = 4
+
 
 class _Frame:
-    """The problem in its circular frame, as arrays the kernels take."""
+    """The problem in its circular frame, as arrays the kernels take.
+
+    ``cache`` holds what a solver derives from the problem alone and another stage of the
+    same call may use again (ADMM's largest eigenvalue and factorizations of
+    :math:`W + cI`); it lives as long as the frame, one call of :func:`solve`.
+    """
 
     def __init__(self, problem: FrictionContactProblem):
         Wt, qt, P = problem._solver_frame()
@@ -37,6 +45,7 @@ class _Frame:
         diag = np.abs(self.W.diagonal())
         self.mean_diag = float(np.mean(diag[diag > 0])) if np.any(diag > 0) else 1.0
         self.r_bound = UNBOUNDED * max(self.norm_q, np.finfo(float).tiny) / self.mean_diag
+        self.cache: dict = {}
 
     def error(self, r, u=None) -> float:
         """Siconos' error of ``r`` (``u = W r + q`` when not given): see :mod:`.error`."""
@@ -61,6 +70,11 @@ class _Monitor:
     ``record(method, iteration, r, err)`` is called by a solver after each iteration (NSGS:
     after each sweep where it evaluated the error); it returns True when the run must stop,
     with ``reason`` set. The caller checks ``err <= tol`` and ``max_iter`` itself.
+
+    ``handover = (level, more)`` (set by ``"auto"`` for one stage) also stops the run, with
+    the internal reason ``"handover"``, once the error is below ``level`` and the linear rate
+    of the stage's last :data:`RATE_POINTS` errors predicts more than ``more`` iterations to
+    ``tol``: the next stage is expected to finish sooner.
     """
 
     def __init__(self, fr: _Frame, tol: float, time_limit, callback):
@@ -70,6 +84,7 @@ class _Monitor:
         self.iterations: list[int] = []
         self.offset = 0          # iterations of the earlier stages of a chained run
         self.reason = ""
+        self.handover = None
 
     def elapsed(self) -> float:
         return time.perf_counter() - self.t0
@@ -93,4 +108,16 @@ class _Monitor:
             self.reason = "callback"
         elif self.out_of_time():
             self.reason = "time_limit"
+        elif self.handover is not None and err <= self.handover[0] and self.predicted() > self.handover[1]:
+            self.reason = "handover"
         return bool(self.reason)
+
+    def predicted(self) -> float:
+        """Iterations still needed to ``tol`` at the linear rate of the current stage's last
+        :data:`RATE_POINTS` errors (inf when they do not fall; 0 with fewer points)."""
+        e, k = self.errors[-RATE_POINTS:], self.iterations[-RATE_POINTS:]
+        if len(e) < RATE_POINTS or k[0] <= self.offset:
+            return 0.0
+        if not 0.0 < e[-1] < e[0]:
+            return np.inf
+        return float(np.log(self.tol / e[-1]) / (np.log(e[-1] / e[0]) / (k[-1] - k[0])))

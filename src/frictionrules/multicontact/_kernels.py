@@ -241,12 +241,13 @@ def local_solve(A, b, mu, dil, rp0, rp1, rp2):
 @njit(cache=True)
 def diagonal_blocks(indptr, indices, data, nc):
     D = np.zeros((nc, 3, 3))
-    for i in range(3 * nc):
-        a = i // 3
-        for k in range(indptr[i], indptr[i + 1]):
-            j = indices[k]
-            if j // 3 == a:
-                D[a, i - 3 * a, j - 3 * a] += data[k]
+    for a in range(nc):
+        lo = 3 * a
+        for l in range(3):
+            for k in range(indptr[lo + l], indptr[lo + l + 1]):
+                j = indices[k] - lo
+                if 0 <= j < 3:
+                    D[a, l, j] += data[k]
     return D
 
 

@@ -14,6 +14,8 @@ the polish, then sweeps to the end of its budget and the polish again.
 from __future__ import annotations
 
 import functools
+import sys
+import time
 
 import numpy as np
 
@@ -22,7 +24,9 @@ from . import _kernels as K
 from ._frame import UNBOUNDED
 from ._options import PolishOptions
 
-njit = require("numba", extra="kernels").njit
+numba = require("numba", extra="kernels")
+njit = numba.njit
+intrinsic = numba.core.extending.intrinsic
 
 #: Largest number of contacts solved by the small path.
 SMALL_MAX = 16
@@ -129,19 +133,19 @@ def _sweeps(indptr, indices, data, D, q, mu, dil, r, tol, budget, norm_q, h_err,
 
 
 @njit(cache=True)
-def small_solve(indptr, indices, data, q, mu, dil, r, tol, max_iter, mode, contraction, patience, max_halvings,
-                r_bound_factor):
-    """Solve in place from ``r``: mode 0 nsgs, 1 polish, 2 auto (see the module docstring).
+def small_solve(indptr, indices, data, q, mu, dil, r, u, h_err, h_it, tol, max_iter, mode, contraction, patience,
+                max_halvings, r_bound_factor):
+    """Solve in place from ``r``: mode 0 nsgs, 1 polish, 2 auto (see the module docstring);
+    ``u`` receives :math:`W r + q`, ``h_err``, ``h_it`` the history (buffers of any size,
+    replaced by larger ones when the history outgrows them).
 
-    Returns ``(iterations, error, u, bounded, history errors, history iterations, stages)``;
-    ``stages`` is the number of stages run (they alternate from nsgs, or are one polish in
-    mode 1: see :func:`stage_names`); ``bounded``
-    whether the reactions are within ``r_bound_factor`` times |q| over the mean |W_ii|.
+    Returns ``(iterations, error, bounded, stages, history length, h_err, h_it)``; ``stages``
+    is the number of stages run (they alternate from nsgs, or are one polish in mode 1: see
+    :func:`stage_names`); ``bounded`` whether the reactions are within ``r_bound_factor``
+    times |q| over the mean |W_ii|. The error is the last stage's, of ``r`` as returned.
     """
     nc = mu.size
     norm_q = np.sqrt(np.sum(q * q))
-    h_err = np.empty(CHUNK + 4)
-    h_it = np.empty(CHUNK + 4, dtype=np.int64)
     D = K.diagonal_blocks(indptr, indices, data, nc)
     nh, done, err = 0, 0, np.inf
     ns = 0
@@ -164,7 +168,14 @@ def small_solve(indptr, indices, data, q, mu, dil, r, tol, max_iter, mode, contr
         if mode != 2 or err <= tol or budget <= 0:
             break
         stage = 1 - stage
-    err, u = _error(indptr, indices, data, q, mu, dil, r, norm_q)
+    # every stage ends with the error of r as it is (NSGS evaluates after its last sweep)
+    for i in range(3 * nc):
+        acc = q[i]
+        for k in range(indptr[i], indptr[i + 1]):
+            acc += data[k] * r[indices[k]]
+        u[i] = acc
+    if not np.isfinite(err):
+        err, _u = _error(indptr, indices, data, q, mu, dil, r, norm_q)
     mean_diag, count = 0.0, 0
     for a in range(nc):
         for l in range(3):
@@ -173,7 +184,74 @@ def small_solve(indptr, indices, data, q, mu, dil, r, tol, max_iter, mode, contr
                 count += 1
     mean_diag = mean_diag / count if count else 1.0
     bounded = np.sqrt(np.sum(r * r)) <= r_bound_factor * max(norm_q, 1e-300) / mean_diag
-    return done, err, u, bounded, h_err[:nh], h_it[:nh], ns
+    return done, err, bounded, ns, nh, h_err, h_it
+
+
+#: History entries allocated per call: one chunk of sweeps fits without a new buffer.
+HISTORY = CHUNK + 4
+
+
+@intrinsic
+def _clock_ns(typingctx, clock):
+    """``clock_gettime(clock)`` in nanoseconds, from compiled code (the C library's function,
+    resolved when the code is loaded; ``struct timespec`` of two 64-bit integers)."""
+    from llvmlite import ir
+    from numba.core import cgutils
+
+    def codegen(context, builder, signature, args):
+        i32, i64 = ir.IntType(32), ir.IntType(64)
+        timespec = ir.LiteralStructType([i64, i64])
+        fn = cgutils.get_or_insert_function(builder.module, ir.FunctionType(i32, [i32, timespec.as_pointer()]),
+                                            "clock_gettime")
+        ts = cgutils.alloca_once(builder, timespec)
+        builder.call(fn, [builder.trunc(args[0], i32), ts])
+        seconds = builder.load(cgutils.gep_inbounds(builder, ts, 0, 0))
+        nanoseconds = builder.load(cgutils.gep_inbounds(builder, ts, 0, 1))
+        return builder.add(builder.mul(seconds, ir.Constant(i64, 1_000_000_000)), nanoseconds)
+
+    return numba.types.int64(numba.types.int64), codegen
+
+
+#: The clocks of the compiled batch's per-problem times (the calling thread's CPU time, the
+#: monotonic wall clock), or None where the platform has no ``clock_gettime`` with them
+#: (the batch then solves problem by problem).
+CLOCKS = ((time.CLOCK_THREAD_CPUTIME_ID, time.CLOCK_MONOTONIC)
+          if sys.platform.startswith("linux") and hasattr(time, "CLOCK_THREAD_CPUTIME_ID") else None)
+
+
+@njit(cache=True)
+def small_solve_many(indptr, indices, data, ptr_start, nnz_start, q, mu, dil, con_start, r, u, h_err, h_it,
+                     tol, max_iter, mode, contraction, patience, max_halvings, r_bound_factor, cpu_clock,
+                     wall_clock, out_int, out_float):
+    """:func:`small_solve` on each of P problems stored one after the other: problem k has
+    ``n = 3 (con_start[k+1] - con_start[k])`` unknowns, its CSR row pointers
+    ``indptr[ptr_start[k]:ptr_start[k] + n + 1]`` (from 0), its column indices and values
+    from ``nnz_start[k]``, its q, r, u from ``3 con_start[k]``, its history in row k of
+    ``h_err``, ``h_it``. Writes ``out_int[k] = (iterations, bounded, stages, history
+    length)`` (length -1: the history outgrew its row) and ``out_float[k] = (error, CPU
+    seconds, wall seconds)``."""
+    for k in range(con_start.size - 1):
+        c0, w0 = _clock_ns(cpu_clock), _clock_ns(wall_clock)
+        a, b = con_start[k], con_start[k + 1]
+        n = 3 * (b - a)
+        ip = indptr[ptr_start[k]:ptr_start[k] + n + 1]
+        nz = nnz_start[k]
+        it, err, bounded, ns, nh, he, hi = small_solve(
+            ip, indices[nz:nz + ip[n]], data[nz:nz + ip[n]], q[3 * a:3 * b], mu[a:b], dil[a:b], r[3 * a:3 * b],
+            u[3 * a:3 * b], h_err[k], h_it[k], tol, max_iter, mode, contraction, patience, max_halvings,
+            r_bound_factor)
+        out_int[k, 0], out_int[k, 1], out_int[k, 2] = it, bounded, ns
+        out_int[k, 3] = nh if nh <= h_err.shape[1] else -1
+        if he.size != h_err.shape[1] and nh <= h_err.shape[1]:     # written to a grown buffer
+            h_err[k, :nh], h_it[k, :nh] = he[:nh], hi[:nh]
+        out_float[k, 0] = err
+        out_float[k, 1] = 1e-9 * (_clock_ns(cpu_clock) - c0)
+        out_float[k, 2] = 1e-9 * (_clock_ns(wall_clock) - w0)
+
+
+def buffers(n: int):
+    """``(r, u, h_err, h_it)`` for :func:`small_solve` on ``n`` unknowns, r zero."""
+    return np.zeros(n), np.empty(n), np.empty(HISTORY), np.empty(HISTORY, dtype=np.int64)
 
 
 @functools.cache

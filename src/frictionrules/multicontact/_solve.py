@@ -31,10 +31,11 @@ import numpy as np
 
 from ..errors import FrictionRulesError, check_finite, check_scalar
 from ._frame import _Frame, _Monitor
+from ._admm import all_stick
 from ._methods import METHODS, check_method, options_for
 from .problem import FrictionContactProblem, Solution
 
-__all__ = ["solve", "METHODS"]
+__all__ = ["solve", "solve_batch", "METHODS"]
 
 #: ``"auto"`` (docs/multicontact.md, "Choosing a method", has the measurements): first
 #: ``_AUTO_PROBE_FIRST`` NSGS sweeps, and more (up to ``_AUTO_PROBE`` in all) when their linear
@@ -52,7 +53,7 @@ __all__ = ["solve", "METHODS"]
 #: sweeps, each 5-10 times dearer), the polish trying whenever the sweeps' error has fallen
 #: by ``_AUTO_POLISH_STEP`` since its last try (first at ``_AUTO_POLISH_FROM``).
 _AUTO_PROBE, _AUTO_PROBE_FIRST, _AUTO_PROX_MAX = 50, 10, 1000
-_AUTO_ADMM_LEVELS, _AUTO_ADMM_BUDGET = (1e-4, 1e-6), 400
+_AUTO_ADMM_LEVELS, _AUTO_ADMM_BUDGET, _AUTO_ADMM_MORE = (1e-4, 1e-6), 400, 30
 _AUTO_POLISH_FROM, _AUTO_POLISH_STEP = 1e-6, 1e-2
 #: ADMM starts from the probe's answer. Measured (CPU to 1e-8 with the polish): from the
 #: probe's answer Spheres 0.007 s and KaplasTower 0.087 s, from zero 0.011 s and 0.062 s, from
@@ -162,17 +163,24 @@ def solve(problem: FrictionContactProblem, method: str = "auto", tol: float = 1e
         stopped; ``history[k]`` the error after iteration ``history_iterations[k]``;
         ``seconds`` and ``cpu_seconds`` the wall and CPU time of the call.
     """
-    tol, max_iter, time_limit, blas_threads, opts = _check(problem, method, tol, max_iter, time_limit,
-                                                           blas_threads, callback, options)
-    t0, c0 = time.perf_counter(), time.thread_time()
+    c0, t0 = time.thread_time(), time.perf_counter()
+    if (type(problem) is FrictionContactProblem and problem.nc <= SMALL_MAX and method in SMALL_MODES
+            and problem.frames is None and callback is None and time_limit is None and options is None
+            and max_iter is None and r0 is None and type(tol) is float and 0.0 <= tol < np.inf
+            and (blas_threads is None or type(blas_threads) is int and blas_threads >= 1)):
+        # the small path with every argument at its default: nothing else to check
+        opts, max_iter = None, METHODS[method].max_iter
+    else:
+        tol, max_iter, time_limit, blas_threads, opts = _check(problem, method, tol, max_iter, time_limit,
+                                                               blas_threads, callback, options)
     if (problem.nc <= SMALL_MAX and method in SMALL_MODES and problem.frames is None
             and callback is None and time_limit is None):
         r, u, err, it, hist, hist_it, ran, reason = _solve_small(problem, method, tol, max_iter, r0, opts,
                                                                  _small_path())
         if reason == "converged" or method != "auto":
-            return Solution(r=r, u=u, error=err, iterations=it, converged=reason == "converged", history=hist,
-                            history_iterations=hist_it, method=ran, seconds=time.perf_counter() - t0,
-                            reason=reason, cpu_seconds=time.thread_time() - c0)
+            return Solution._record(r, u, err, it, reason == "converged", hist, hist_it, ran,
+                                    time.perf_counter() - t0, reason, time.thread_time() - c0)
+        opts = options_for(method, options)
     with thread_limits(blas_threads):
         fr = _Frame(problem)
         r = _initial(problem, fr, r0)
@@ -202,20 +210,114 @@ def _solve_small(problem, method, tol, max_iter, r0, opts, small):
     """The compiled small-problem path (:mod:`._small`): ``(r, u, error, iterations, history,
     history_iterations, stages, reason)``."""
     W = problem.W
-    r = np.zeros(3 * problem.nc) if r0 is None else check_finite("r0", r0).ravel().astype(float)
-    if r.size != 3 * problem.nc:
-        raise FrictionRulesError(f"r0 has {r.size} entries; constraint: 3 nc = {3 * problem.nc}")
-    polish = opts if method == "polish" else small.POLISH_DEFAULTS
-    it, err, u, bounded, hist, hist_it, stages = small.small_solve(
-        W.indptr, W.indices, W.data, problem.q, problem.mu_bar, problem.dilatancy, r, tol, max_iter,
-        small.MODES[method], polish.contraction, polish.patience, polish.max_halvings, small.UNBOUNDED)
+    n = 3 * problem.nc
+    r, u, h_err, h_it = small.buffers(n)
+    if r0 is not None:
+        r = check_finite("r0", r0).ravel().astype(float)
+        if r.size != n:
+            raise FrictionRulesError(f"r0 has {r.size} entries; constraint: 3 nc = {n}")
+    polish = opts if method == "polish" and opts is not None else small.POLISH_DEFAULTS
+    mode = small.MODES[method]
+    it, err, bounded, stages, nh, h_err, h_it = small.small_solve(
+        W.indptr, W.indices, W.data, problem.q, problem.mu_bar, problem.dilatancy, r, u, h_err, h_it, tol,
+        max_iter, mode, polish.contraction, polish.patience, polish.max_halvings, small.UNBOUNDED)
+    reason = _small_reason(method, bounded, err, tol, it, max_iter)
+    return r, u, err, it, h_err[:nh], h_it[:nh], small.stage_names(mode, stages), reason
+
+
+def _small_reason(method, bounded, err, tol, it, max_iter) -> str:
     if not bounded:
-        reason = "unbounded"
-    elif err <= tol:
-        reason = "converged"
-    else:
-        reason = "stalled" if method == "polish" and it < max_iter else "max_iter"
-    return r, u, err, it, hist, hist_it, small.stage_names(small.MODES[method], stages), reason
+        return "unbounded"
+    if err <= tol:
+        return "converged"
+    return "stalled" if method == "polish" and it < max_iter else "max_iter"
+
+
+#: Problems per compiled call of :func:`solve_batch` (its history buffers: 4 kB a problem).
+_BATCH_BLOCK = 1024
+
+
+def solve_batch(problems, method: str = "auto", tol: float = 1e-8, max_iter: int | None = None, *,
+                blas_threads: int | None = 1) -> list[Solution]:
+    """Solve each problem with the same arguments: ``[solve(p, method, tol, max_iter) for p in
+    problems]``, the same answers, with the problems of at most :data:`SMALL_MAX` contacts
+    (``nsgs``, ``polish`` or ``auto``) solved in one compiled call.
+
+    A physics step, a calibration or a parameter sweep solves thousands of small problems;
+    one at a time each pays a Python call (about 6 µs of argument handling, buffers and its
+    record); here they share one, and each problem costs its compiled work, about 1 µs of
+    timing (its ``cpu_seconds`` and ``seconds`` are its own, read from the thread's CPU clock
+    and the monotonic clock around it) and its :class:`Solution`. An ``auto`` run that does
+    not converge there goes on with the general path, as in :func:`solve`; so does every
+    problem on a platform without those clocks.
+
+    Parameters
+    ----------
+    problems : iterable of FrictionContactProblem
+    method, tol, max_iter, blas_threads
+        As in :func:`solve`, for every problem.
+
+    Returns
+    -------
+    list of Solution
+        In the order of ``problems``.
+    """
+    problems = list(problems)
+    if not problems:
+        check_method(method)
+        return []
+    for p in problems[:1]:
+        _check(p, method, tol, max_iter, None, blas_threads, None, None)
+    out: list = [None] * len(problems)
+    small = _small_path()
+    batch = [k for k, p in enumerate(problems) if type(p) is FrictionContactProblem and p.nc <= SMALL_MAX
+             and p.frames is None]
+    if method in SMALL_MODES and small.CLOCKS is not None and batch:
+        tol = float(tol)
+        limit = METHODS[method].max_iter if max_iter is None else int(max_iter)
+        for start in range(0, len(batch), _BATCH_BLOCK):
+            block = batch[start:start + _BATCH_BLOCK]
+            for k, sol in zip(block, _solve_small_many([problems[k] for k in block], method, tol, limit, small)):
+                out[k] = sol
+    return [s if s is not None else solve(p, method, tol, max_iter, blas_threads=blas_threads)
+            for p, s in zip(problems, out)]
+
+
+def _solve_small_many(problems, method, tol, max_iter, small) -> list:
+    """The problems in one compiled call (:func:`._small.small_solve_many`); None for those
+    left to :func:`solve` (``auto`` not converged, a history longer than its buffer)."""
+    P = len(problems)
+    con_start = np.zeros(P + 1, dtype=np.int64)
+    np.cumsum([p.nc for p in problems], out=con_start[1:])
+    Ws = [p.W for p in problems]
+    ptr_start = np.zeros(P, dtype=np.int64)
+    np.cumsum([W.shape[0] + 1 for W in Ws[:-1]], out=ptr_start[1:])
+    nnz_start = np.zeros(P, dtype=np.int64)
+    np.cumsum([W.nnz for W in Ws[:-1]], out=nnz_start[1:])
+    cat = np.concatenate
+    n = 3 * int(con_start[-1])
+    r, u = np.zeros(n), np.empty(n)
+    h_err, h_it = np.empty((P, small.HISTORY)), np.empty((P, small.HISTORY), dtype=np.int64)
+    out_int, out_float = np.empty((P, 4), dtype=np.int64), np.empty((P, 3))
+    polish = small.POLISH_DEFAULTS
+    mode = small.MODES[method]
+    small.small_solve_many(
+        cat([W.indptr for W in Ws]), cat([W.indices for W in Ws]), cat([W.data for W in Ws]), ptr_start,
+        nnz_start, cat([p.q for p in problems]),
+        cat([p.mu_bar for p in problems]), cat([p.dilatancy for p in problems]), con_start, r, u, h_err, h_it,
+        tol, max_iter, mode, polish.contraction, polish.patience, polish.max_halvings, small.UNBOUNDED,
+        small.CLOCKS[0], small.CLOCKS[1], out_int, out_float)
+    sols = []
+    starts = (3 * con_start).tolist()       # Python numbers: a tenth of NumPy scalars' cost
+    for k, ((it, bounded, stages, nh), (err, cpu, wall)) in enumerate(zip(out_int.tolist(), out_float.tolist())):
+        reason = _small_reason(method, bounded, err, tol, it, max_iter)
+        if nh < 0 or (method == "auto" and reason != "converged"):
+            sols.append(None)
+            continue
+        a, b = starts[k], starts[k + 1]
+        sols.append(Solution._record(r[a:b], u[a:b], err, it, reason == "converged", h_err[k, :nh], h_it[k, :nh],
+                                     small.stage_names(mode, stages), wall, reason, cpu))
+    return sols
 
 
 def _run(method, fr, r, max_iter, mon, opts):
@@ -272,9 +374,13 @@ def _run_auto(fr, r, tol, max_iter, mon):
         r, stop = run("nsgs", r, tol, min(int(1.5 * more) + 2, _AUTO_PROBE - total))
     if not stop and fr.nc <= _AUTO_PROX_MAX:
         spent = total
+        if all_stick(fr, options_for("admm", None)):
+            r = start.copy()
         for level in _AUTO_ADMM_LEVELS:
-            r, stop = run("admm", r, max(tol, level), _AUTO_ADMM_BUDGET - (total - spent))
-            if stop or mon.reason != "converged":
+            mon.handover = (max(tol, level), _AUTO_ADMM_MORE)
+            r, stop = run("admm", r, tol, _AUTO_ADMM_BUDGET - (total - spent))
+            mon.handover = None
+            if stop or not mon.errors or mon.errors[-1] > max(tol, level):
                 break
             r, stop = polish(r)
             if stop:
@@ -294,6 +400,6 @@ def _run_auto(fr, r, tol, max_iter, mon):
             break
         level = max(tol, level * _AUTO_POLISH_STEP)
     mon.tol = tol
-    if mon.reason in ("converged", "stalled") and (not mon.errors or mon.errors[-1] > tol):
+    if mon.reason in ("converged", "stalled", "handover") and (not mon.errors or mon.errors[-1] > tol):
         mon.reason = "max_iter"
     return r, total, "+".join(ran)

@@ -287,3 +287,14 @@ class Solution:
     seconds: float = 0.0
     reason: str = ""
     cpu_seconds: float = 0.0
+
+    @classmethod
+    def _record(cls, r, u, error, iterations, converged, history, history_iterations, method, seconds, reason,
+                cpu_seconds) -> "Solution":
+        """The same frozen record, every field given in order, built without the generated
+        ``__init__`` (its per-field ``object.__setattr__`` is 1.1 µs of a 5 µs small solve)."""
+        self = object.__new__(cls)
+        self.__dict__.update(r=r, u=u, error=error, iterations=iterations, converged=converged, history=history,
+                             history_iterations=history_iterations, method=method, seconds=seconds,
+                             reason=reason, cpu_seconds=cpu_seconds)
+        return self
