@@ -17,7 +17,7 @@ import numpy as np
 from ..contact import ContactModel
 from ..errors import FrictionRulesError, check_finite, check_scalar
 
-__all__ = ["Assembly", "LATTICES", "FCC_FRAMES"]
+__all__ = ["Assembly", "LATTICES", "FCC_FRAMES", "consolidation_of", "CONSOLIDATIONS"]
 
 #: The regular arrays of :meth:`Assembly.lattice`.
 LATTICES = ("fcc", "sc", "hex2d", "square2d")
@@ -199,11 +199,15 @@ class Assembly:
     @classmethod
     def random(cls, n: int, dim: int, model, *, radius=1.0, polydispersity: float = 0.0,
                solid_fraction: float | None = None, seed: int = 0, reference_axis=(1.0, 0.0, 0.0),
-               tolerance: float = 1e-9, max_sweeps: int = 400) -> "Assembly":
-        """A dense random packing by seeded compaction (:func:`random_packing`)."""
+               tolerance: float = 1e-9, progress=None) -> "Assembly":
+        """A dense random packing by seeded compaction (:func:`random_packing`): a cloud of
+        ``n`` grains compressed without friction by the dynamic engine to random close packing
+        (or to ``solid_fraction``), then expanded until its grains just touch. ``progress``,
+        when given, hears the compaction's stages through its ``phase(text)``."""
         from ._random import random_packing
+        report = getattr(progress, "phase", None)
         pack = random_packing(n, dim, radius=radius, polydispersity=polydispersity,
-                              solid_fraction=solid_fraction, seed=seed, max_sweeps=max_sweeps)
+                              solid_fraction=solid_fraction, seed=seed, report=report)
         return cls(pack.positions, pack.radii, pack.cell, model, reference_axis,
                    max(tolerance, pack.tolerance))
 
@@ -220,3 +224,20 @@ def _face_areas(h: np.ndarray) -> np.ndarray:
     """Normals of the faces opposite each cell vector scaled by their area (rows): the
     columns of ``det(H) H^{-T}``; face widths are ``det(H)/|row|``."""
     return np.linalg.det(h) * np.linalg.inv(h)
+
+
+#: The consolidations of a loading test.
+CONSOLIDATIONS = ("auto", "stress", "frictionless")
+
+
+def consolidation_of(assembly: Assembly, consolidation: str) -> str:
+    """The consolidation of a loading test, checked: "auto" is "frictionless" for grains of
+    unequal radii in a rectangular cell (random packings), "stress" otherwise (lattices)."""
+    if consolidation not in CONSOLIDATIONS:
+        raise FrictionRulesError(f"consolidation = {consolidation!r} violates: one of "
+                                 f"{', '.join(CONSOLIDATIONS)}")
+    if consolidation != "auto":
+        return consolidation
+    h = assembly.cell
+    rectangular = np.array_equal(h, np.diag(np.diag(h)))
+    return "frictionless" if rectangular and np.ptp(assembly.radii) > 0 else "stress"

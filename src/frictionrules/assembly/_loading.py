@@ -18,7 +18,7 @@ import numpy as np
 
 from ..errors import FrictionRulesError, check_scalar
 from ._contacts import ContactSet, branches, build, embed, skin
-from ._geometry import Assembly
+from ._geometry import Assembly, consolidation_of
 from ._results import ContactSnapshot, SampleState, TriaxialResult
 from ._solver import components, move, solve_increment, stress_of
 
@@ -54,7 +54,7 @@ def prepared_state(assembly: Assembly, pressure: float, report=None) -> SampleSt
     """The sample compressed without friction to ``pressure`` (its normal springs balanced,
     no tangential force): the start of a random sample's consolidation. ``report(text)``,
     when given, hears how the compression goes."""
-    from ._random import frictionless_compression
+    from ._dem import frictionless_compression
     base = build(assembly, assembly.positions, assembly.cell)
     kns = {m.kn for m in base.models}
     kn = float(np.mean(sorted(kns)))
@@ -239,7 +239,7 @@ def triaxial(assembly: Assembly, kind: str, *, pressure: float, axial_strain: fl
         "stress": the isotropic stage starts from the sample as built; "frictionless": the
         sample is first compressed without friction to ``pressure`` (normal springs ``kn``
         balanced, as DEM prepares samples), then the isotropic stage runs with the laws;
-        "auto": "frictionless" for grains of unequal radii in a cubic (square) cell (random
+        "auto": "frictionless" for grains of unequal radii in a rectangular cell (random
         packings), "stress" otherwise.
     rtol : float
         Newton tolerance on the residual forces, moments and stresses, relative to the largest
@@ -299,13 +299,7 @@ def triaxial(assembly: Assembly, kind: str, *, pressure: float, axial_strain: fl
     check_scalar("failure_slope", failure_slope, lo=0.0, lo_open=True, hi=1.0)
     if max_time is not None:
         check_scalar("max_time", max_time, lo=0.0, lo_open=True)
-    if consolidation not in ("auto", "stress", "frictionless"):
-        raise FrictionRulesError(f"consolidation = {consolidation!r} violates: one of auto, "
-                                 "stress, frictionless")
-    if consolidation == "auto":
-        h = assembly.cell
-        cubic = np.allclose(h, h[0, 0] * np.eye(assembly.dim))
-        consolidation = "frictionless" if cubic and np.ptp(assembly.radii) > 0 else "stress"
+    consolidation = consolidation_of(assembly, consolidation)
     cons, shear = _controls(kind, assembly.dim, p, a, int(increments), int(consolidation_increments))
     options = dict(kind=kind, pressure=p, axial_strain=a, increments=int(increments),
                    consolidation_increments=int(consolidation_increments), rtol=rtol,
@@ -460,10 +454,7 @@ def load_cell(assembly: Assembly, control: dict, *, pressure: float, increments:
                         int(consolidation_increments))
     shear = [Control(tuple(free), tuple(np.where(free, start + (target - start) * (k + 1) / increments, 0.0)),
                      tuple(np.where(free, 0.0, total / increments))) for k in range(int(increments))]
-    if consolidation == "auto":
-        h = assembly.cell
-        cubic = np.allclose(h, h[0, 0] * np.eye(d))
-        consolidation = "frictionless" if cubic and np.ptp(assembly.radii) > 0 else "stress"
+    consolidation = consolidation_of(assembly, consolidation)
     options = dict(kind="mixed", control={k: list(v) for k, v in control.items()}, pressure=p,
                    increments=int(increments), consolidation_increments=int(consolidation_increments),
                    rtol=rtol, max_cuts=int(max_cuts), failure_slope=failure_slope,

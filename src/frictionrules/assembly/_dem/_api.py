@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...errors import FrictionRulesError, check_scalar
+from .._geometry import consolidation_of
 from ._protocol import mixed_stage, run_test, triaxial_stage
 
 __all__ = ["dem_triaxial", "dem_load_cell", "check_dem_options"]
@@ -19,17 +20,6 @@ def check_dem_options(*, inertial_number, damping, density, record_every, peak_w
                 peak_window=check_scalar("peak_window", peak_window, lo=0.0))
 
 
-def _consolidation(assembly, consolidation: str) -> str:
-    if consolidation not in ("auto", "stress", "frictionless"):
-        raise FrictionRulesError(f"consolidation = {consolidation!r} violates: one of auto, "
-                                 "stress, frictionless")
-    if consolidation == "auto":
-        h = assembly.cell
-        cubic = np.allclose(h, h[0, 0] * np.eye(assembly.dim))
-        return "frictionless" if cubic and np.ptp(assembly.radii) > 0 else "stress"
-    return consolidation
-
-
 def dem_triaxial(assembly, kind: str, *, pressure: float, axial_strain: float, failure_slope: float,
                  consolidation: str, progress, max_time, run_file, **dem) -> object:
     """``triaxial(..., method="dem")`` (arguments checked by the caller but ``dem``)."""
@@ -38,7 +28,7 @@ def dem_triaxial(assembly, kind: str, *, pressure: float, axial_strain: float, f
         raise FrictionRulesError(f"record_every = {opts['record_every']!r} violates: at most "
                                  f"axial_strain = {axial_strain!r}")
     options = dict(kind=kind, method="dem", pressure=pressure, axial_strain=axial_strain,
-                   failure_slope=failure_slope, consolidation=_consolidation(assembly, consolidation),
+                   failure_slope=failure_slope, consolidation=consolidation_of(assembly, consolidation),
                    **opts)
     d = assembly.dim
     return run_test(assembly, kind, lambda dyn, rate: triaxial_stage(kind, d, pressure, axial_strain, rate),
@@ -52,7 +42,7 @@ def dem_load_cell(assembly, control: dict, *, free, start, end, strain, pressure
     opts = check_dem_options(**dem)
     options = dict(kind="mixed", method="dem", control={k: list(v) for k, v in control.items()},
                    pressure=pressure, failure_slope=failure_slope,
-                   consolidation=_consolidation(assembly, consolidation), **opts)
+                   consolidation=consolidation_of(assembly, consolidation), **opts)
 
     def spec(dyn, rate):
         return mixed_stage(free, start, end, strain, rate, dyn.k_max, float(np.mean(assembly.radii)))

@@ -10,8 +10,8 @@ takes at the stress rate ``ε̇ k/d`` (``k`` the stiffest contact: an elastic st
 The servo's strain rate is bounded by ``SERVO_RATE ε̇`` during a stage, ``CONSOLIDATION_RATE ε̇``
 during consolidation.
 
-**Consolidation.** Every component is stress-controlled at the isotropic ``pressure`` (0 off
-the diagonal) until the stress holds (each component within ``STRESS_TOL`` of the pressure)
+**Consolidation.** Every normal stress is driven to the isotropic ``pressure`` (the cell's
+shear strains held, as YADE's ``PeriTriaxController`` with ``stressMask = 7``) until the stress holds (each component within ``STRESS_TOL`` of the pressure)
 with an unbalanced-force ratio below ``UNBALANCED_TOL``: "frictionless" with ``Coulomb(0)`` at
 every contact, after which the laws take over with virgin tangential histories; "stress" with
 the laws from the start. A consolidation that does not settle within ``CONSOLIDATION_STEPS``
@@ -94,11 +94,12 @@ def mixed_stage(free, start, end, strain, rate: float, k_max: float, mean_radius
     return StageSpec(np.asarray(free, bool), start, end, rates, duration)
 
 
-def _control(spec_free, start, end, rate, duration, max_rate, pressure, settle, d) -> Control:
+def _control(spec_free, start, end, rate, duration, max_rate, pressure, settle, d,
+             unbalanced_tol: float = UNBALANCED_TOL) -> Control:
     comp = np.array(components(d), dtype=np.int64)
     return Control(comp, np.asarray(spec_free, np.uint8), np.asarray(start, float),
                    np.asarray(end, float), np.asarray(rate, float), float(duration),
-                   float(max_rate), float(pressure), STRESS_TOL, UNBALANCED_TOL, int(settle))
+                   float(max_rate), float(pressure), STRESS_TOL, float(unbalanced_tol), int(settle))
 
 
 class _Clock:
@@ -125,15 +126,16 @@ def _phase(progress, text):
 
 
 def consolidate(dyn: Dynamics, state, pressure: float, rate: float, frictionless: bool,
-                progress=None, deadline=None, clock=None):
-    """Consolidation (module docstring). Returns ``(state, done)``; ``done`` False where the
-    deadline came first."""
+                progress=None, deadline=None, clock=None, unbalanced_tol: float = UNBALANCED_TOL):
+    """Consolidation (module docstring): the normal stresses driven to ``pressure``, the cell's
+    shear strains held. Returns ``(state, done)``; ``done`` False where the deadline came
+    first."""
     d = dyn.dim
     comps = components(d)
     diag = np.array([a == b for a, b in comps])
     target = np.where(diag, pressure, 0.0)
-    control = _control(np.ones(len(comps)), target, target, np.zeros(len(comps)), 0.0,
-                       CONSOLIDATION_RATE * rate, pressure, True, d)
+    control = _control(diag, target, target, np.zeros(len(comps)), 0.0,
+                       CONSOLIDATION_RATE * rate, pressure, True, d, unbalanced_tol)
     clock = clock or _Clock()
     start = int(state.meters[0]["steps"])
     while True:

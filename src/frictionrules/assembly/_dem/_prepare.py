@@ -1,0 +1,105 @@
+r"""Samples prepared by the dynamic engine: the frictionless compression of a cloud of grains
+(:meth:`frictionrules.Assembly.random` and the "frictionless" consolidation of both methods).
+
+Frictionless grains with linear normal springs ``kn`` in a periodic cell whose every normal
+stress is driven by the servo (:mod:`._engine`) to the isotropic ``pressure``, the shear
+components of the cell held; the compression ends where each normal stress is within
+:data:`._protocol.STRESS_TOL` of the pressure with an unbalanced-force ratio below
+:data:`._protocol.UNBALANCED_TOL` (YADE's ``PeriTriaxController`` with ``maxUnbalanced``).
+A cloud far below jamming carries no stress: the servo then compresses at its largest rate.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ...errors import FrictionRulesError
+from ._dynamics import Dynamics
+from ._engine import Outcome
+from ._protocol import CONSOLIDATION_RATE, UNBALANCED_TOL, _Clock, _control, consolidate
+
+__all__ = ["frictionless_compression", "compress_to", "PREPARATION_INERTIAL_NUMBER",
+           "PREPARATION_DAMPING"]
+
+#: Inertial number of a preparation's strain rate (a compression the grains follow
+#: quasi-statically) ...
+PREPARATION_INERTIAL_NUMBER = 1e-3
+#: ... and the damping of its dynamics (only the end state matters).
+PREPARATION_DAMPING = 0.7
+
+
+def _engine(positions, radii, cell, kn: float, density: float, damping: float):
+    from ...contact import ContactModel
+    from ...laws import Coulomb
+    from .._geometry import Assembly
+    sample = Assembly(np.asarray(positions, float), np.asarray(radii, float),
+                      np.asarray(cell, float), ContactModel(Coulomb(0.0), kn=kn, kt=kn))
+    dyn = Dynamics(sample, density=density, damping=damping)
+    return dyn, dyn.init()
+
+
+def _rate(radii, density: float, pressure: float) -> float:
+    return PREPARATION_INERTIAL_NUMBER / (2.0 * float(np.mean(radii)) * math.sqrt(density / pressure))
+
+
+def _result(dyn, state):
+    d = dyn.dim
+    H = state.cell.H[:d, :d].copy()
+    x = state.grains.x[:, :d].copy()
+    return x, H
+
+
+def frictionless_compression(positions, radii, cell, kn: float, pressure: float, *,
+                             density: float = 1.0, damping: float = PREPARATION_DAMPING,
+                             unbalanced_tol: float = UNBALANCED_TOL,
+                             report=None) -> tuple[np.ndarray, np.ndarray]:
+    """Compress frictionless grains (normal springs ``kn``) until they carry the isotropic
+    ``pressure`` in equilibrium (module docstring). Returns ``(positions, cell)``;
+    ``report(text)``, when given, hears how the compression goes."""
+    dyn, state = _engine(positions, radii, cell, kn, density, damping)
+    progress = None if report is None else _Report(report)
+    state, _ = consolidate(dyn, state, pressure, _rate(radii, density, pressure), True, progress,
+                           unbalanced_tol=unbalanced_tol)
+    return _result(dyn, state)
+
+
+def compress_to(positions, radii, cell, solid_fraction: float, *, kn: float = 1.0,
+                density: float = 1.0, damping: float = PREPARATION_DAMPING):
+    """Compress the cell isotropically (every normal strain at the same rate) to the
+    ``solid_fraction``, then hold it until the grains' overlaps are gone (a packing below
+    jamming carries no stress). Returns ``(positions, cell)``."""
+    dyn, state = _engine(positions, radii, cell, kn, density, damping)
+    d = dyn.dim
+    r = np.asarray(radii, float)
+    solid = float(np.sum(np.pi * r**2 if d == 2 else 4.0 / 3.0 * np.pi * r**3))
+    volume = abs(float(np.linalg.det(np.asarray(cell, float))))
+    strain = math.log(solid / (solid_fraction * volume)) / -d  # compression positive, per axis
+    pressure = 1e-4 * kn / (2.0 * float(r.mean()))
+    rate = _rate(r, density, pressure) * CONSOLIDATION_RATE
+    from .._solver import components
+    comps = components(d)
+    diag = np.array([a == b for a, b in comps], dtype=float)
+    zero = np.zeros(len(comps))
+    compress = _control(np.zeros(len(comps)), zero, zero, diag * rate, strain / rate, rate,
+                        pressure, False, d)
+    clock = _Clock()
+    while True:
+        state, outcome, _ = clock.run(dyn, state, compress, strain / rate)
+        if outcome == Outcome.REACHED:
+            break
+    hold = _control(np.zeros(len(comps)), zero, zero, zero, 0.0, rate, pressure, False, d)
+    for _ in range(10_000):
+        if int(state.meters[0]["closed"]) == 0:
+            return _result(dyn, state)
+        state, _, _ = clock.run(dyn, state, hold, math.inf)
+    raise FrictionRulesError(f"solid_fraction = {solid_fraction!r} violates: below jamming (the "
+                             "grains still overlap after the compression)")
+
+
+class _Report:
+    """A progress callback's ``phase`` onto a ``report(text)`` function."""
+
+    def __init__(self, report):
+        self.phase = report
