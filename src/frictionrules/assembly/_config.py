@@ -77,8 +77,9 @@ def _triaxial_parameters():
     return inspect.signature(triaxial).parameters
 
 
-def read_config(path) -> tuple[Assembly, dict]:
-    """The assembly and the keyword arguments of :func:`triaxial` of a TOML file."""
+def read_config(path, progress=None) -> tuple[Assembly, dict]:
+    """The assembly and the keyword arguments of :func:`triaxial` of a TOML file;
+    ``progress`` (with a method ``phase(text)``) hears how a random packing is made."""
     from .._toml import load_toml
     file = Path(path)
     doc = load_toml(file)
@@ -104,7 +105,8 @@ def read_config(path) -> tuple[Assembly, dict]:
             if key not in sample:
                 raise FrictionRulesError(f"{file}: [sample] random = true needs {key}")
         opts = {k: sample[k] for k in ("radius", "polydispersity", "seed", "solid_fraction") if k in sample}
-        assembly = Assembly.random(sample["n"], sample["dim"], model, **opts, **common)
+        assembly = Assembly.random(sample["n"], sample["dim"], model, **opts, **common,
+                                   progress=progress)
     else:
         if "lattice" not in sample:
             raise FrictionRulesError(f"{file}: [sample] needs lattice = NAME or random = true")

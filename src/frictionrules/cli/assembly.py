@@ -44,7 +44,7 @@ def run(args) -> int:
     vtk = check_folder(args.vtk, name="--vtk") if args.vtk else None
     with _common.progress(args, "assembly", unit="increments") as bar:
         bar.phase("preparing the sample")
-        assembly, loading = read_config(args.config)
+        assembly, loading = read_config(args.config, progress=bar)
         dem = loading.get("method", "implicit") == "dem"
         if vtk is not None and not dem:
             raise FrictionRulesError(f"--vtk = {args.vtk!r} needs method = \"dem\" in [loading] of "
