@@ -134,7 +134,7 @@ def test_cli_shows_preparation_and_no_peak_without_failure(tmp_path, monkeypatch
     monkeypatch.setattr(sys, "stderr", terminal)
     assert main(["assembly", str(cfg), "--out", str(tmp_path / "lock.h5")]) == 0
     shown = terminal.getvalue()
-    assert "frictionless compression: trial 1, mean stress" in shown
+    assert "consolidation (frictionless): p/p* = " in shown
     assert "consolidation to pressure 1" in shown and "\r" in shown
     out = capsys.readouterr().out
     assert "no peak up to axial strain" in out and "inf" not in out

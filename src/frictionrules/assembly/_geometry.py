@@ -17,7 +17,7 @@ import numpy as np
 from ..contact import ContactModel
 from ..errors import FrictionRulesError, check_finite, check_scalar
 
-__all__ = ["Assembly", "LATTICES", "FCC_FRAMES", "consolidation_of", "CONSOLIDATIONS"]
+__all__ = ["Assembly", "LATTICES", "FCC_FRAMES"]
 
 #: The regular arrays of :meth:`Assembly.lattice`.
 LATTICES = ("fcc", "sc", "hex2d", "square2d")
@@ -225,19 +225,3 @@ def _face_areas(h: np.ndarray) -> np.ndarray:
     columns of ``det(H) H^{-T}``; face widths are ``det(H)/|row|``."""
     return np.linalg.det(h) * np.linalg.inv(h)
 
-
-#: The consolidations of a loading test.
-CONSOLIDATIONS = ("auto", "stress", "frictionless")
-
-
-def consolidation_of(assembly: Assembly, consolidation: str) -> str:
-    """The consolidation of a loading test, checked: "auto" is "frictionless" for grains of
-    unequal radii in a rectangular cell (random packings), "stress" otherwise (lattices)."""
-    if consolidation not in CONSOLIDATIONS:
-        raise FrictionRulesError(f"consolidation = {consolidation!r} violates: one of "
-                                 f"{', '.join(CONSOLIDATIONS)}")
-    if consolidation != "auto":
-        return consolidation
-    h = assembly.cell
-    rectangular = np.array_equal(h, np.diag(np.diag(h)))
-    return "frictionless" if rectangular and np.ptp(assembly.radii) > 0 else "stress"

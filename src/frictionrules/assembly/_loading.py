@@ -18,7 +18,8 @@ import numpy as np
 
 from ..errors import FrictionRulesError, check_scalar
 from ._contacts import ContactSet, branches, build, embed, skin
-from ._geometry import Assembly, consolidation_of
+from ._consolidation import consolidation_of
+from ._geometry import Assembly
 from ._results import ContactSnapshot, SampleState, TriaxialResult
 from ._solver import components, move, solve_increment, stress_of
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...errors import FrictionRulesError, check_scalar
-from .._geometry import consolidation_of
+from .._consolidation import consolidation_of
 from ._protocol import mixed_stage, run_test, triaxial_stage
 
 __all__ = ["dem_triaxial", "dem_load_cell", "check_dem_options"]

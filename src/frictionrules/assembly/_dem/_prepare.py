@@ -12,6 +12,7 @@ A cloud far below jamming carries no stress: the servo then compresses at its la
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -30,12 +31,25 @@ PREPARATION_INERTIAL_NUMBER = 1e-3
 PREPARATION_DAMPING = 0.7
 
 
+class _Cloud(NamedTuple):
+    """Grains as :class:`Dynamics` reads an assembly: one frictionless contact model."""
+
+    positions: np.ndarray
+    radii: np.ndarray
+    cell: np.ndarray
+    model: object
+    reference_axis: tuple = (1.0, 0.0, 0.0)
+
+    @property
+    def dim(self) -> int:
+        return self.positions.shape[1]
+
+
 def _engine(positions, radii, cell, kn: float, density: float, damping: float):
     from ...contact import ContactModel
     from ...laws import Coulomb
-    from .._geometry import Assembly
-    sample = Assembly(np.asarray(positions, float), np.asarray(radii, float),
-                      np.asarray(cell, float), ContactModel(Coulomb(0.0), kn=kn, kt=kn))
+    sample = _Cloud(np.asarray(positions, float), np.asarray(radii, float),
+                    np.asarray(cell, float), ContactModel(Coulomb(0.0), kn=kn, kt=kn))
     dyn = Dynamics(sample, density=density, damping=damping)
     return dyn, dyn.init()
 

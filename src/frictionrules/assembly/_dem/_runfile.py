@@ -64,7 +64,7 @@ class DemRunFile:
                     "constraint: the same assembly and options to resume, or a new file")
         else:
             h5 = h5py.File(path, "w")
-            from ... import __version__
+            from ..._version import __version__
             h5.attrs["software"] = f"frictionrules {__version__}"
             h5.attrs["command"] = command_line()
             h5.attrs["parameters"] = parameters
