@@ -232,18 +232,3 @@ def test_dem_summary_of_a_run_stopped_before_its_peak(disks):
     assert "no peak up to axial strain" in _dem_summary(assembly, completed)
     assert _exit_code(completed, dem=True) == 0 and _exit_code(result, dem=True) == 0
 
-
-def test_example_renders_the_force_chains_of_its_vtk_files(tmp_path, capsys):
-    """examples/assembly_dem_paraview.py (the docs' picture of the force chains): the VTK files
-    written, read back and drawn — one line per force-carrying contact of the last record."""
-    import runpy
-    from pathlib import Path
-
-    import matplotlib
-    matplotlib.use("Agg")
-    example = Path(__file__).resolve().parents[1] / "examples" / "assembly_dem_paraview.py"
-    out = runpy.run_path(str(example))["main"](out_dir=tmp_path, n=40, axial_strain=2e-3)
-    assert out["records"] == 3 and out["contacts"] > 40
-    assert (tmp_path / "assembly_dem_force_chains.png").stat().st_size > 20_000
-    assert len(_collection(tmp_path / "vtk" / "contacts.pvd")) == 3
-    assert "energy balance error" in capsys.readouterr().out

@@ -39,7 +39,7 @@ def plot_response(result, axes=None, label=None, linestyle="-", title=None):
     x = result.axial_strain[ok]
     (line,) = a.plot(x, result.stress_ratio[ok], label=label, linestyle=linestyle)
     named = any(h.get_label() in (_PEAK, _PEAK_MEAN) for h in a.lines)
-    if result.failed and result.method == "dem":
+    if result.failed and getattr(result, "method", "implicit") == "dem":
         # the peak of a dynamic run is that of the running mean (the ratio fluctuates about it)
         a.axhline(result.peak_ratio, color=line.get_color(), lw=0.8, ls=":",
                   label="_" if named else _PEAK_MEAN)
