@@ -210,6 +210,17 @@ def test_example_assembly_hex2d_rowe(tmp_path):
     assert (tmp_path / "assembly_hex2d_rowe.png").stat().st_size > 1000
 
 
+def test_example_assembly_dem_paraview(tmp_path, capsys):
+    """The docs' picture of the force chains: a dynamic run's VTK files written, read back and
+    drawn."""
+    out = load("assembly_dem_paraview").main(out_dir=tmp_path, n=40, axial_strain=2e-3)
+    assert out["records"] == 3 and out["contacts"] > 40
+    assert (tmp_path / "assembly_dem_force_chains.png").stat().st_size > 20_000
+    assert sorted(p.name for p in (tmp_path / "vtk").glob("*.pvd")) == [
+        "cell.pvd", "contacts.pvd", "grains.pvd"]
+    assert "energy balance error" in capsys.readouterr().out
+
+
 def test_example_assembly_orthotropic_fcc():
     out = load("assembly_orthotropic_fcc").main()
     for peak in out.values():

@@ -58,7 +58,8 @@ from .configuration import (
     SphereOnLayer,
 )
 # grain assemblies: many grains, a law at every contact (§5, (4.12))
-from .assembly import Assembly, ContactSnapshot, SampleState, TriaxialResult, load_cell, triaxial
+from .assembly import (Assembly, ContactSnapshot, SampleState, TriaxialResult, load_cell, triaxial,
+                       write_vtk)
 
 __all__ = [
     "FrictionRulesError",
@@ -143,6 +144,7 @@ __all__ = [
     "triaxial",
     "load_cell",
     "TriaxialResult",
+    "write_vtk",
     "ContactSnapshot",
     "SampleState",
 ]

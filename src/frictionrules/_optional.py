@@ -29,6 +29,7 @@ EXTRAS: dict[str, str] = {
     "threadpoolctl": "solvers",
     "distributed": "dask",
     "SurfaceTopography": "surfaces",
+    "meshio": "vtk",
 }
 
 

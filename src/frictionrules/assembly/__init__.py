@@ -2,12 +2,15 @@
 loaded quasi-statically (the paper's programme of §5, the limit condition (4.12)).
 
 Public: :class:`Assembly`, :func:`triaxial` and the records :class:`TriaxialResult`,
-:class:`ContactSnapshot`, :class:`SampleState` (re-exported by :mod:`frictionrules`).
+:class:`ContactSnapshot`, :class:`SampleState` and :func:`write_vtk` (VTK files for
+ParaView) (re-exported by :mod:`frictionrules`).
 """
 
 from ._config import read_config
 from ._geometry import Assembly
 from ._loading import load_cell, triaxial
 from ._results import ContactSnapshot, SampleState, TriaxialResult
+from ._vtk import write_vtk
 
-__all__ = ["Assembly", "triaxial", "load_cell", "TriaxialResult", "ContactSnapshot", "SampleState", "read_config"]
+__all__ = ["Assembly", "triaxial", "load_cell", "TriaxialResult", "ContactSnapshot", "SampleState", "read_config",
+           "write_vtk"]

@@ -19,7 +19,10 @@
     kind = "axisymmetric"      # "plane_strain", "biaxial" (2-D)
     pressure = 1.0
     axial_strain = 0.01
-    increments = 100
+    increments = 100           # the implicit method's
+    # method = "dem"           # the dynamic engine ("Dynamic runs"), with its options:
+    # inertial_number = 4e-4; damping = 0.2; density = 1.0; record_every = 1e-3
+    # peak_window = 2.5e-3
 """
 
 from __future__ import annotations
@@ -35,8 +38,10 @@ __all__ = ["read_config"]
 
 _SAMPLE = {"lattice", "frame", "cells", "radius", "reference_axis", "tolerance", "random", "n",
            "dim", "polydispersity", "seed", "solid_fraction"}
+#: The dynamic engine's own keys of [loading] (``triaxial(..., method="dem")``).
+_DEM = ("inertial_number", "damping", "density", "record_every", "peak_window")
 _LOADING = {"kind", "pressure", "axial_strain", "increments", "consolidation_increments",
-            "rtol", "max_cuts", "failure_slope", "consolidation"}
+            "rtol", "max_cuts", "failure_slope", "consolidation", "method", *_DEM}
 
 
 def _table(doc, name, file) -> dict:
@@ -46,8 +51,35 @@ def _table(doc, name, file) -> dict:
     return dict(value)
 
 
-def read_config(path) -> tuple[Assembly, dict]:
-    """The assembly and the keyword arguments of :func:`triaxial` of a TOML file."""
+def _check_loading(loading: dict, file) -> None:
+    """The method and the dynamic engine's options, checked before the sample is built."""
+    from ._loading import check_method
+    try:
+        check_method(loading.get("method", "implicit"))
+        dem = {k: loading[k] for k in _DEM if k in loading}
+        if loading.get("method", "implicit") != "dem":
+            if dem:
+                raise FrictionRulesError(f"{', '.join(sorted(dem))} violates: options of "
+                                         f"method = \"dem\" only (method = "
+                                         f"{loading.get('method', 'implicit')!r})")
+            return
+        from ._dem import check_dem_options
+        defaults = {name: p.default for name, p in _triaxial_parameters().items() if name in _DEM}
+        check_dem_options(**{**defaults, **dem})
+    except FrictionRulesError as exc:
+        raise FrictionRulesError(f"{file}: [loading] {exc}") from None
+
+
+def _triaxial_parameters():
+    import inspect
+
+    from ._loading import triaxial
+    return inspect.signature(triaxial).parameters
+
+
+def read_config(path, progress=None) -> tuple[Assembly, dict]:
+    """The assembly and the keyword arguments of :func:`triaxial` of a TOML file;
+    ``progress`` (with a method ``phase(text)``) hears how a random packing is made."""
     from .._toml import load_toml
     file = Path(path)
     doc = load_toml(file)
@@ -61,6 +93,7 @@ def read_config(path) -> tuple[Assembly, dict]:
             raise FrictionRulesError(f"{file}: [{name}] unknown keys {extra}; known: {sorted(known)}")
     if "law" not in model_t or not isinstance(model_t["law"], dict):
         raise FrictionRulesError(f"{file}: missing [model.law] table")
+    _check_loading(loading, file)
     law = law_from_mapping(model_t.pop("law"), where=f"{file}: [model.law]")
     try:
         model = ContactModel(law, **model_t)
@@ -72,7 +105,8 @@ def read_config(path) -> tuple[Assembly, dict]:
             if key not in sample:
                 raise FrictionRulesError(f"{file}: [sample] random = true needs {key}")
         opts = {k: sample[k] for k in ("radius", "polydispersity", "seed", "solid_fraction") if k in sample}
-        assembly = Assembly.random(sample["n"], sample["dim"], model, **opts, **common)
+        assembly = Assembly.random(sample["n"], sample["dim"], model, **opts, **common,
+                                   progress=progress)
     else:
         if "lattice" not in sample:
             raise FrictionRulesError(f"{file}: [sample] needs lattice = NAME or random = true")

@@ -1,61 +1,102 @@
 """``frictionrules assembly CONFIG.toml --out run.h5``: load a grain assembly (sample, laws,
 loading from TOML), writing the HDF5 run file as the run goes; a run file that exists is
-resumed."""
+resumed. ``method = "dem"`` in ``[loading]`` runs the dynamic engine."""
 
 from __future__ import annotations
 
-from ._common import add_quiet, finite_float
+import math
+
+from ._common import add_quiet, finite_float, positive_int
 
 
 def register(sub) -> None:
     p = sub.add_parser(
         "assembly", help="triaxial test of a grain assembly with a law at every contact (TOML)",
         description="Read [sample] (lattice or random packing), [model] (kn, kt, [model.law]) and "
-                    "[loading] (kind, pressure, axial_strain, increments) from CONFIG.toml, run "
-                    "the test increment by increment, write every increment to the HDF5 run file "
-                    "(--out; an existing file of the same run resumes) and print the peak. See "
-                    "docs/assembly.md.",
+                    "[loading] (kind, pressure, axial_strain, increments; or method = \"dem\" and "
+                    "the dynamic engine's options) from CONFIG.toml, run the test, write every "
+                    "increment (record) to the HDF5 run file (--out; an existing file of the same "
+                    "run resumes) and print the peak. See docs/assembly.md.",
         epilog="example: frictionrules assembly examples/assembly_fcc.toml --out fcc.h5 --figure fcc.png")
     p.add_argument("config", metavar="CONFIG.toml", help="run description")
     p.add_argument("--out", metavar="RUN.h5", required=True, help="HDF5 run file (.h5, .hdf5)")
     p.add_argument("--figure", metavar="FILE", help="stress ratio and volumetric strain against "
-                   "axial strain (.png, .svg, .pdf)")
+                   "axial strain; method \"dem\": also the coordination, the sliding fraction and "
+                   "the force network at the last record (.png, .svg, .pdf)")
+    p.add_argument("--vtk", metavar="FOLDER", help="method \"dem\": grains, contacts and cell at "
+                   "every record as VTK files for ParaView (grains.pvd, contacts.pvd, cell.pvd)")
+    p.add_argument("--vtk-every", type=positive_int, default=1, metavar="N",
+                   help="write every N-th record to --vtk (the first and the last always)")
     p.add_argument("--max-time", type=finite_float, metavar="SECONDS",
-                   help="stop after this time (the file keeps every finished increment)")
+                   help="stop after this time (the file keeps every finished increment or record)")
     add_quiet(p)
     p.set_defaults(run=run)
 
 
 def run(args) -> int:
-    from .._output import FIGURE_SUFFIXES, check_output
+    from .._output import FIGURE_SUFFIXES, check_folder, check_output
     from ..assembly import read_config, triaxial
+    from ..errors import FrictionRulesError
     from . import _common
 
     out = check_output(args.out, (".h5", ".hdf5"))
     figure = check_output(args.figure, FIGURE_SUFFIXES, name="--figure") if args.figure else None
+    vtk = check_folder(args.vtk, name="--vtk") if args.vtk else None
     with _common.progress(args, "assembly", unit="increments") as bar:
         bar.phase("preparing the sample")
-        assembly, loading = read_config(args.config)
-        bar(0, loading.get("increments", 100))
+        assembly, loading = read_config(args.config, progress=bar)
+        dem = loading.get("method", "implicit") == "dem"
+        if vtk is not None and not dem:
+            raise FrictionRulesError(f"--vtk = {args.vtk!r} needs method = \"dem\" in [loading] of "
+                                     f"{args.config} (the records of the dynamic engine)")
+        if dem:
+            bar.unit = "records"
+            bar.phase("")  # the engine names its own stages
+        else:
+            bar(0, loading.get("increments", 100))
         result = triaxial(assembly, run_file=out, max_time=args.max_time, progress=bar, **loading)
-    print(f"{assembly.size} grains, {len(result.converged) - 1} increments ({result.message}); "
-          f"{_strength(result)}; final volumetric strain {result.volumetric_strain[-1]:.6g}")
+    if dem:
+        print(_dem_summary(assembly, result))
+    else:
+        print(f"{assembly.size} grains, {len(result.converged) - 1} increments ({result.message}); "
+              f"{_strength(result)}; final volumetric strain {result.volumetric_strain[-1]:.6g}")
     print(f"wrote {out}")
     if figure is not None:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
+        _figure(args, result, assembly, figure, dem)
+        print(f"wrote {figure}")
+    if vtk is not None:
+        from ..assembly import write_vtk
+        files = write_vtk(result, vtk, every=args.vtk_every)
+        print(f"wrote {', '.join(str(f) for f in files)}")
+    return _exit_code(result, dem)
 
-        from .._output import write_figure
+
+def _exit_code(result, dem: bool) -> int:
+    """1 for a run that did not finish its test, else 0."""
+    if dem:
+        # a run stopped (max_time) before its peak did not find the strength it was run for
+        return 0 if result.converged[-1] and (result.failed or result.message == "completed") else 1
+    # a run that stopped at an increment that did not converge did not finish its test
+    return 0 if result.converged[-1] else 1
+
+
+def _figure(args, result, assembly, figure, dem: bool) -> None:
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from .._output import write_figure
+    from . import _common
+    if dem:
+        from ..plot.assembly import plot_dem_run
+        fig = plot_dem_run(result)[0, 0].figure
+    else:
         from ..plot.assembly import plot_response
         fig, axes = plt.subplots(1, 2, figsize=(9, 3.6))
         plot_response(result, axes=axes)
         fig.tight_layout()
-        write_figure(fig, figure, metadata=_common.metadata(args, model=assembly.model))
-        plt.close(fig)
-        print(f"wrote {figure}")
-    # a run that stopped at an increment that did not converge did not finish its test
-    return 0 if result.converged[-1] else 1
+    write_figure(fig, figure, metadata=_common.metadata(args, model=assembly.model))
+    plt.close(fig)
 
 
 def _strength(result) -> str:
@@ -69,3 +110,34 @@ def _strength(result) -> str:
     if result.message == "completed":
         return f"no peak up to {reached}"
     return f"no peak reached before the run stopped at {reached}"
+
+
+def _angle(ratio: float) -> float:
+    """Mobilized friction angle (degrees) of σ1/σ3: sin φ = (R - 1)/(R + 1)."""
+    return math.degrees(math.asin((ratio - 1) / (ratio + 1)))
+
+
+def _dem_summary(assembly, result) -> str:
+    """A dynamic run's lines: the peak (or how far the run came without one), the state at its
+    end, the energy balance."""
+    head = f"{assembly.size} grains, {len(result.time) - 1} records ({result.message})"
+    if not result.converged[-1]:
+        return f"{head}; no peak reached before the run stopped during the consolidation"
+    if result.failed:
+        strength = (f"peak σ1/σ3 = {result.peak_ratio:.6g} (running mean), friction angle "
+                    f"{result.peak_friction_angle:.4g} deg")
+    else:
+        reached = (f"axial strain {result.axial_strain[-1]:.6g} (largest σ1/σ3 "
+                   f"{result.stress_ratio.max():.6g})")
+        strength = (f"no peak up to {reached}" if result.message == "completed"
+                    else f"no peak reached before the run stopped at {reached}")
+    if len(result.time) == 1:
+        return f"{head}; {strength}"
+    z = result.coordination[-1]
+    zm = result.coordination_without_rattlers[-1]
+    return (f"{head}; {strength}\n"
+            f"at axial strain {result.axial_strain[-1]:.6g}: σ1/σ3 {result.stress_ratio[-1]:.6g} "
+            f"(friction angle {_angle(result.stress_ratio[-1]):.4g} deg), volumetric strain "
+            f"{result.volumetric_strain[-1]:.6g}, Z {z:.4g} ({zm:.4g} without rattlers), "
+            f"sliding fraction {result.sliding_fraction[-1]:.3g}\n"
+            f"energy balance: error {100 * result.energy.relative_error:.3g} % of the boundary work")

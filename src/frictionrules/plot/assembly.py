@@ -1,13 +1,16 @@
 """Figures of grain assemblies: the response of a test (stress ratio and volumetric strain
-against axial strain), the contact-force network, and the roses of contact normals and of
-mobilized friction. Each function takes ``ax=None`` (or ``axes``) and returns what it drew on.
+against axial strain), the coordination and sliding fraction of a dynamic run, the
+contact-force network, and the roses of contact normals and of mobilized friction. Each
+function takes ``ax=None`` (or ``axes``) and returns what it drew on; :func:`plot_dem_run`
+puts a dynamic run's four panels on one figure.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["plot_response", "force_network", "normal_rose", "friction_rose"]
+__all__ = ["plot_response", "plot_coordination", "force_network", "normal_rose", "friction_rose",
+           "plot_dem_run"]
 
 
 def _axes(ax, polar=False, size=(5.0, 4.0)):
@@ -20,8 +23,9 @@ def _axes(ax, polar=False, size=(5.0, 4.0)):
 def plot_response(result, axes=None, label=None, linestyle="-", title=None):
     r"""Stress ratio σ1/σ3 (left) and volumetric strain ε_v (right, compression positive)
     against the axial strain ε_a of a :class:`TriaxialResult`, both strains as fractions (as
-    the result and the command line give them); the peak is marked with a circle, which the
-    legend of the left Axes names. Returns the two Axes.
+    the result and the command line give them); the peak is marked with a circle (a dynamic
+    run: a dotted line at the peak of the ratio's running mean), which the legend of the left
+    Axes names. Returns the two Axes.
 
     ``title`` goes over the left Axes; by default it names the test and, for a single run
     (``label`` None), its peak and friction angle. Several runs on the same Axes: pass
@@ -34,9 +38,13 @@ def plot_response(result, axes=None, label=None, linestyle="-", title=None):
     ok = result.converged
     x = result.axial_strain[ok]
     (line,) = a.plot(x, result.stress_ratio[ok], label=label, linestyle=linestyle)
-    if result.failed:
+    named = any(h.get_label() in (_PEAK, _PEAK_MEAN) for h in a.lines)
+    if result.failed and getattr(result, "method", "implicit") == "dem":
+        # the peak of a dynamic run is that of the running mean (the ratio fluctuates about it)
+        a.axhline(result.peak_ratio, color=line.get_color(), lw=0.8, ls=":",
+                  label="_" if named else _PEAK_MEAN)
+    elif result.failed:
         k = int(np.argmax(np.where(ok, result.stress_ratio, -np.inf)))
-        named = any(h.get_label() == _PEAK for h in a.lines)
         a.plot(result.axial_strain[k], result.stress_ratio[k], "o", color=line.get_color(), ms=4,
                label="_" if named else _PEAK)
     a.set_xlabel(r"axial strain $\varepsilon_a$ (compression > 0)")
@@ -46,9 +54,8 @@ def plot_response(result, axes=None, label=None, linestyle="-", title=None):
     b.set_xlabel(r"axial strain $\varepsilon_a$ (compression > 0)")
     b.set_ylabel(r"volumetric strain $\varepsilon_v$ (compression > 0)")
     for ax in axes:
-        ax.locator_params(axis="x", nbins=5)
-        ax.ticklabel_format(style="sci", scilimits=(-2, 3), useMathText=True)  # ×10⁻⁴ at the end
-        ax.grid(alpha=0.3)
+        _strain_axis(ax)
+        ax.ticklabel_format(axis="y", style="sci", scilimits=(-2, 3), useMathText=True)
     if title is None:
         title = f"{result.kind.replace('_', ' ')} test"
         if label is None:
@@ -60,38 +67,89 @@ def plot_response(result, axes=None, label=None, linestyle="-", title=None):
     return axes
 
 
-#: Legend entry of the peak marker.
+#: Legend entries of the peak markers.
 _PEAK = r"peak $\sigma_1/\sigma_3$"
+_PEAK_MEAN = r"peak of the running mean"
 
 
-def _segments(snapshot, state, plane):
-    """End points of the branch vectors of the contacts, projected on ``plane``."""
-    x, h = state.positions, state.cell
+def _strain_axis(ax) -> None:
+    ax.set_xlabel(r"axial strain $\varepsilon_a$ (compression > 0)")
+    ax.locator_params(axis="x", nbins=5)
+    ax.ticklabel_format(axis="x", style="sci", scilimits=(-2, 3), useMathText=True)
+    ax.grid(alpha=0.3)
+
+
+def plot_coordination(result, ax=None):
+    r"""A dynamic run's coordination against axial strain: ``Z = 2 N_c/N`` (force-carrying
+    contacts per grain), ``Z`` without rattlers (the mechanical coordination
+    ``(2 N_c - N_1)/(N - N_0 - N_1)``, ``N_0``, ``N_1`` grains with none or one force-carrying
+    contact) on the left axis, and the fraction of the force-carrying contacts that slide on
+    the right one. Returns ``(ax, right)``, the two Axes."""
+    if result.coordination_without_rattlers is None:
+        raise ValueError("plot_coordination draws a dynamic run (method='dem'): the implicit "
+                         "path records no sliding fraction")
+    ax = _axes(ax)
+    x = result.axial_strain
+    ax.plot(x, result.coordination, color="C0", label="$Z$")
+    ax.plot(x, result.coordination_without_rattlers, color="C0", ls="--",
+            label="$Z$ without rattlers")
+    ax.set_ylabel("coordination $Z$", color="C0")
+    right = ax.twinx()
+    right.plot(x, result.sliding_fraction, color="C3", label="sliding fraction")
+    right.set_ylabel("sliding fraction", color="C3")
+    right.set_ylim(0, max(0.05, 1.15 * float(np.max(result.sliding_fraction))))
+    _strain_axis(ax)
+    lines = ax.lines + right.lines
+    ax.legend(lines, [h.get_label() for h in lines], fontsize=7, loc="upper right")
+    return ax, right
+
+
+def _geometry(result, increment: int):
+    """Grain centres and cell at an increment: a dynamic run has them at every record, the
+    implicit path at its last increment only."""
+    if result.positions is not None:
+        return result.positions[increment], result.cells[increment]
+    if increment not in (-1, len(result.contacts) - 1):
+        raise ValueError("force_network draws the implicit path's last increment (the state it "
+                         "has positions for)")
+    return result.final.positions, result.final.cell
+
+
+def _segments(snapshot, x, h, plane):
+    """End points of the branch vectors of the contacts (grain ``i`` to the image of ``j``),
+    centres wrapped into the cell, projected on ``plane``."""
     i, j, k = snapshot.grains[:, 0], snapshot.grains[:, 1], snapshot.shift
-    start = x[i]
-    end = x[j] + k @ h.T
+    wrapped = x - np.floor(np.linalg.solve(h, x.T).T) @ h.T
+    start = wrapped[i]
+    end = start + (x[j] + k @ h.T - x[i])
     axes = {"xy": (0, 1), "xz": (0, 2), "yz": (1, 2)}[plane] if x.shape[1] == 3 else (0, 1)
     return start[:, axes], end[:, axes]
 
 
 def force_network(result, increment: int = -1, ax=None, plane: str = "xz"):
-    """The contact-force network at an increment: the branch vectors of the closed contacts
-    drawn with widths proportional to the normal force (a projection on ``plane`` in 3-D)."""
+    """The contact-force network at an increment (a dynamic run: a record): the branch
+    vectors of the force-carrying contacts, from grain ``i`` to the image of ``j`` across the
+    periodic boundary, drawn with widths proportional to the normal force ``N`` (a projection
+    on ``plane`` in 3-D); the cell is outlined."""
     import matplotlib.collections as mc
     ax = _axes(ax)
     snap = result.contacts[increment]
-    state = result.final if increment in (-1, len(result.contacts) - 1) else None
-    if state is None:
-        raise ValueError("force_network draws the last increment (the state it has positions for)")
-    start, end = _segments(snap, state, plane)
+    x, h = _geometry(result, increment)
+    start, end = _segments(snap, x, h, plane)
     N = snap.force[:, 2]
     closed = N > 0
-    width = 4 * N[closed] / N[closed].max() if closed.any() else []
+    width = 3 * N[closed] / N[closed].max() if closed.any() else []
     ax.add_collection(mc.LineCollection(np.stack((start[closed], end[closed]), axis=1),
-                                        linewidths=width, colors="k"))
+                                        linewidths=width, colors="k", capstyle="round"))
+    axes = {"xy": (0, 1), "xz": (0, 2), "yz": (1, 2)}[plane] if x.shape[1] == 3 else (0, 1)
+    corners = np.array([[0, 0], [1, 0], [1, 1], [0, 1], [0, 0]], float)
+    box = np.zeros((5, x.shape[1]))
+    box[:, list(axes)] = corners
+    outline = box @ h.T
+    ax.plot(outline[:, axes[0]], outline[:, axes[1]], color="C0", lw=0.8, ls="--")
     ax.set_aspect("equal")
     ax.autoscale()
-    names = plane if state.positions.shape[1] == 3 else "xy"
+    names = plane if x.shape[1] == 3 else "xy"
     ax.set_xlabel(names[0])
     ax.set_ylabel(names[1])
     return ax
@@ -142,3 +200,20 @@ def friction_rose(result, increment: int = -1, ax=None, plane: str = "xz", bins:
     ax.tick_params(axis="y", labelsize=7)
     ax.set_title(f"mobilized friction |T|/N ({plane})", fontsize=9)
     return ax
+
+
+def plot_dem_run(result, increment: int = -1, plane: str = "xz"):
+    """A dynamic run on one figure: σ1/σ3 and volumetric strain (:func:`plot_response`), the
+    coordination and sliding fraction (:func:`plot_coordination`) against axial strain, and
+    the force network at a record (:func:`force_network`). Returns the (2, 2) array of Axes
+    (the right axis of the coordination panel is ``plot_coordination``'s)."""
+    import matplotlib.pyplot as plt
+    fig, axes = plt.subplots(2, 2, figsize=(9.5, 7.5))
+    plot_response(result, axes=axes[0])
+    plot_coordination(result, ax=axes[1, 0])
+    force_network(result, increment, ax=axes[1, 1], plane=plane)
+    k = increment % len(result.contacts)
+    axes[1, 1].set_title(rf"normal forces at $\varepsilon_a$ = {result.axial_strain[k]:.3g} "
+                         f"(width ∝ N)", fontsize=9)
+    fig.tight_layout()
+    return axes
