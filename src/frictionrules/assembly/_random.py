@@ -195,7 +195,8 @@ def random_packing(n: int, dim: int, *, radius=1.0, polydispersity: float = 0.0,
         x, cell = compress_to(x, radii, cell, solid_fraction)
         return Packing(x, radii, cell, 0.0, False)
     x, cell = frictionless_compression(x, radii, cell, 1.0, 1.0 / (PREPARATION_KAPPA * 2 * r0),
-                                       unbalanced_tol=PREPARATION_UNBALANCED, report=report)
+                                       unbalanced_tol=PREPARATION_UNBALANCED, report=report,
+                                       name="packing")
     # the least expansion that leaves no overlap: the contacts of the compressed packing just
     # touch, their gaps the tolerance
     from ._contacts import find_contacts

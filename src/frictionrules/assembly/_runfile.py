@@ -25,7 +25,7 @@ from ..laws import LawState
 from ._contacts import ContactSet
 from ._results import SampleState
 
-__all__ = ["RunFile"]
+__all__ = ["RunFile", "open_h5"]
 
 
 def _sample_key(assembly) -> dict:
@@ -36,6 +36,36 @@ def _sample_key(assembly) -> dict:
             "model": repr(assembly.model)}
 
 
+def open_h5(path, assembly, options: dict, group: str):
+    """The HDF5 run file of a run of ``assembly`` with ``options`` (JSON): a new file with
+    its provenance and an empty ``group``, or the same run's file to resume (another run's
+    file is refused); its ``status`` set to "running"."""
+    from .._optional import require
+    from .._output import check_output, command_line
+    h5py = require("h5py", purpose="assembly run files")
+    path = check_output(path, (".h5", ".hdf5"), name="run_file")
+    parameters = json.dumps(options, sort_keys=True)
+    sample = json.dumps(_sample_key(assembly), sort_keys=True)
+    if path.exists():
+        h5 = h5py.File(path, "a")
+        if h5.attrs.get("parameters") != parameters or h5.attrs.get("sample") != sample:
+            h5.close()
+            raise FrictionRulesError(
+                f"run_file = {str(path)!r} holds another run (other sample or loading); "
+                "constraint: the same assembly and options to resume, or a new file")
+    else:
+        h5 = h5py.File(path, "w")
+        from .._version import __version__
+        h5.attrs["software"] = f"frictionrules {__version__}"
+        h5.attrs["command"] = command_line()
+        h5.attrs["parameters"] = parameters
+        h5.attrs["sample"] = sample
+        h5.create_group(group)
+    h5.attrs["status"] = "running"
+    h5.flush()
+    return h5
+
+
 class RunFile:
     """An open run file (use :meth:`open`)."""
 
@@ -44,30 +74,7 @@ class RunFile:
 
     @classmethod
     def open(cls, path, assembly, options: dict) -> "RunFile":
-        from .._optional import require
-        from .._output import check_output, command_line
-        h5py = require("h5py", purpose="assembly run files")
-        path = check_output(path, (".h5", ".hdf5"), name="run_file")
-        parameters = json.dumps(options, sort_keys=True)
-        sample = json.dumps(_sample_key(assembly), sort_keys=True)
-        if path.exists():
-            h5 = h5py.File(path, "a")
-            if h5.attrs.get("parameters") != parameters or h5.attrs.get("sample") != sample:
-                h5.close()
-                raise FrictionRulesError(
-                    f"run_file = {str(path)!r} holds another run (other sample or loading); "
-                    "constraint: the same assembly and options to resume, or a new file")
-        else:
-            h5 = h5py.File(path, "w")
-            from .._version import __version__
-            h5.attrs["software"] = f"frictionrules {__version__}"
-            h5.attrs["command"] = command_line()
-            h5.attrs["parameters"] = parameters
-            h5.attrs["sample"] = sample
-            h5.create_group("increments")
-        h5.attrs["status"] = "running"
-        h5.flush()
-        return cls(h5, assembly)
+        return cls(open_h5(path, assembly, options, "increments"), assembly)
 
     # ---- writing ----------------------------------------------------------------------------
     def append(self, k: int, state: SampleState, works, ok: bool) -> None:

@@ -188,7 +188,6 @@ class Dynamics:
         laws, ws = self.laws(frictionless)
         params = self.params(frictionless)
         scratch, parts = self._scratch(state.pairs.state.shape[1])
-        done = 0
         threads = numba.get_num_threads()
         numba.set_num_threads(1 if len(state.pairs.i) < PARALLEL_PAIRS else threads)
         try:

@@ -43,8 +43,8 @@ import numpy as np
 from numba import njit, prange
 
 from ._neighbours import build_pairs, grain_lists, match_keys
-from ._passes import (G_DAMPING, G_FORCE, G_KINETIC, G_SHIFT, G_SIZE, P_CLOSED, P_DISSIPATION,
-                      P_FAILED, P_FORCE, P_OVERLAP, P_SIZE, P_SLIDING, P_STIFF, P_VIRIAL,
+from ._passes import (G_DAMPING, G_FORCE, G_KINETIC, G_SHIFT, P_CLOSED, P_DISSIPATION,
+                      P_FAILED, P_FORCE, P_OVERLAP, P_SLIDING, P_STIFF, P_VIRIAL,
                       contact_range, grain_range)
 from ._state import Cell, Grains, Lists, Pairs
 

@@ -67,15 +67,15 @@ def _result(dyn, state):
 
 def frictionless_compression(positions, radii, cell, kn: float, pressure: float, *,
                              density: float = 1.0, damping: float = PREPARATION_DAMPING,
-                             unbalanced_tol: float = UNBALANCED_TOL,
-                             report=None) -> tuple[np.ndarray, np.ndarray]:
+                             unbalanced_tol: float = UNBALANCED_TOL, report=None,
+                             name: str = "consolidation") -> tuple[np.ndarray, np.ndarray]:
     """Compress frictionless grains (normal springs ``kn``) until they carry the isotropic
     ``pressure`` in equilibrium (module docstring). Returns ``(positions, cell)``;
-    ``report(text)``, when given, hears how the compression goes."""
+    ``report(text)``, when given, hears how the compression goes (its stage called ``name``)."""
     dyn, state = _engine(positions, radii, cell, kn, density, damping)
     progress = None if report is None else _Report(report)
     state, _ = consolidate(dyn, state, pressure, _rate(radii, density, pressure), True, progress,
-                           unbalanced_tol=unbalanced_tol, hold_shear=True, name="packing")
+                           unbalanced_tol=unbalanced_tol, hold_shear=True, name=name)
     return _result(dyn, state)
 
 

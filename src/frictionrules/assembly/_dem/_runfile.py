@@ -26,10 +26,9 @@ import json
 import numpy as np
 
 from ...contact import ContactState
-from ...errors import FrictionRulesError
 from ...laws import LawState
 from .._results import ContactSnapshot
-from .._runfile import _sample_key
+from .._runfile import open_h5
 from ._records import Record
 from ._state import METERS, Cell, DemState, Grains, Pairs
 
@@ -49,30 +48,7 @@ class DemRunFile:
 
     @classmethod
     def open(cls, path, assembly, options: dict) -> "DemRunFile":
-        from ..._optional import require
-        from ..._output import check_output, command_line
-        h5py = require("h5py", purpose="assembly run files")
-        path = check_output(path, (".h5", ".hdf5"), name="run_file")
-        parameters = json.dumps(options, sort_keys=True)
-        sample = json.dumps(_sample_key(assembly), sort_keys=True)
-        if path.exists():
-            h5 = h5py.File(path, "a")
-            if h5.attrs.get("parameters") != parameters or h5.attrs.get("sample") != sample:
-                h5.close()
-                raise FrictionRulesError(
-                    f"run_file = {str(path)!r} holds another run (other sample or loading); "
-                    "constraint: the same assembly and options to resume, or a new file")
-        else:
-            h5 = h5py.File(path, "w")
-            from ..._version import __version__
-            h5.attrs["software"] = f"frictionrules {__version__}"
-            h5.attrs["command"] = command_line()
-            h5.attrs["parameters"] = parameters
-            h5.attrs["sample"] = sample
-            h5.create_group("records")
-        h5.attrs["status"] = "running"
-        h5.flush()
-        return cls(h5, assembly)
+        return cls(open_h5(path, assembly, options, "records"), assembly)
 
     # ---- writing ----------------------------------------------------------------------------
     def _slot(self) -> str:
