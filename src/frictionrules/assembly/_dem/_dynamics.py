@@ -30,6 +30,9 @@ SKIN = 0.1
 #: synchronisation per step on an idle machine, and far more where other processes hold the
 #: cores (a thread descheduled at the barrier stalls the others).
 PARALLEL_PAIRS = 16384
+#: Float64 words per cache line and more (128 bytes: two lines, as adjacent-line prefetching
+#: pairs them).
+_LINE = 16
 #: Largest overlap accepted, as a fraction of the smaller radius: beyond it the motion is
 #: unstable (or the contacts far too soft for the loading).
 MAX_OVERLAP = 0.5
@@ -175,9 +178,14 @@ class Dynamics:
         return DemState(grains, cell, pairs, np.zeros((3, 3)), new_meters())
 
     def _scratch(self, width):
-        return ((np.zeros((CHUNKS, width)), np.zeros((CHUNKS, 3)), np.zeros((CHUNKS, 6)),
-                 np.zeros((CHUNKS, 3, 3))),
-                (np.zeros((CHUNKS, P_SIZE)), np.zeros((CHUNKS, G_SIZE)), np.zeros(6)))
+        """Each chunk's scratch rows and partial sums, every row on cache lines of its own (a
+        thread writing its row would otherwise invalidate its neighbours': false sharing)."""
+        def rows(*shape):
+            size = int(np.prod(shape))
+            line = -(-size // _LINE) * _LINE
+            return np.zeros((CHUNKS, line))[:, :size].reshape((CHUNKS,) + shape)
+        return ((rows(width), rows(3), rows(6), rows(3, 3)),
+                (rows(P_SIZE), rows(G_SIZE), np.zeros(6)))
 
     def run(self, state: DemState, control, stop_time: float, max_steps: int,
             frictionless: bool = False) -> tuple[DemState, int]:
