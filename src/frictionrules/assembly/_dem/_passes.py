@@ -266,6 +266,17 @@ def contact_range(lo, hi, fn, row, virgin, ws, lists, grains, cell, pairs, param
         part[P_FAILED] = bad
 
 
+@njit(inline="always", error_model="numpy")
+def _damped_step(F, old, inv, dt, lam):
+    """One component of the leapfrog with Cundall's damping: the new velocity (or spin) under
+    the force (or moment) ``F`` and inverse mass (or moment of inertia) ``inv``, the work lost
+    to damping and twice the kinetic energy of the new half step."""
+    acc = F * inv
+    damp = lam * math.copysign(1.0, F * (old + 0.5 * dt * acc)) if F != 0.0 else 0.0
+    new = old + dt * acc * (1.0 - damp)
+    return new, damp * F * 0.5 * (old + new) * dt, new * new / inv
+
+
 @njit(error_model="numpy", _nrt=False, cache=True)
 def grain_range(lo, hi, lists, grains, cell, pairs, params, F_build, part):
     """Grains ``lo <= g < hi``: gather, damp, integrate. ``F_build = H_new H_build^{-1}`` for
@@ -300,22 +311,14 @@ def grain_range(lo, hi, lists, grains, cell, pairs, params, F_build, part):
         kin = 0.0
         loss = 0.0
         for a in range(3):
-            F = f0 if a == 0 else (f1 if a == 1 else f2)
-            acc = F * im[g]
-            old = v[g, a]
-            damp = lam * math.copysign(1.0, F * (old + 0.5 * dt * acc)) if F != 0.0 else 0.0
-            new = old + dt * acc * (1.0 - damp)
-            v[g, a] = new
-            loss += damp * F * 0.5 * (old + new) * dt
-            kin += new * new / im[g]
-            M = m0 if a == 0 else (m1 if a == 1 else m2)
-            acc = M * ii[g]
-            old = w[g, a]
-            damp = lam * math.copysign(1.0, M * (old + 0.5 * dt * acc)) if M != 0.0 else 0.0
-            new = old + dt * acc * (1.0 - damp)
-            w[g, a] = new
-            loss += damp * M * 0.5 * (old + new) * dt
-            kin += new * new / ii[g]
+            v[g, a], lost, k = _damped_step(f0 if a == 0 else (f1 if a == 1 else f2), v[g, a],
+                                            im[g], dt, lam)
+            loss += lost
+            kin += k
+            w[g, a], lost, k = _damped_step(m0 if a == 0 else (m1 if a == 1 else m2), w[g, a],
+                                            ii[g], dt, lam)
+            loss += lost
+            kin += k
         kinetic += 0.5 * kin
         damping += loss
         x0, x1, x2 = x[g, 0], x[g, 1], x[g, 2]
