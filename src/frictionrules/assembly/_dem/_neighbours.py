@@ -75,6 +75,19 @@ def _positive(k0, k1, k2):
 
 
 @njit(inline="always")
+def _wrap(b, o, n):
+    """The bin ``b`` (offset ``o`` from a grain's own) along a cell vector of ``n`` bins, and
+    the image it lies in: wrapped into the cell, or with one bin the image ``o`` itself."""
+    if n == 1:
+        return 0, o
+    if b < 0:
+        return b + n, -1
+    if b >= n:
+        return b - n, 1
+    return b, 0
+
+
+@njit(inline="always")
 def _scan(i, sw, floors, radius, H, nb, lo_z, hi_z, start, items, cell, skin, out_j, out_k, pos, count_only):
     """Visit the candidates of grain ``i``; write them from ``pos`` (unless ``count_only``);
     returns how many there are."""
@@ -84,25 +97,9 @@ def _scan(i, sw, floors, radius, H, nb, lo_z, hi_z, start, items, cell, skin, ou
         for o1 in range(-1, 2):
             for o2 in range(lo_z, hi_z + 1):
                 b0, b1, b2 = cell[i, 0] + o0, cell[i, 1] + o1, cell[i, 2] + o2
-                w0 = w1 = w2 = 0
-                if nb[0] == 1:
-                    b0, w0 = 0, o0
-                elif b0 < 0:
-                    b0, w0 = b0 + nb[0], -1
-                elif b0 >= nb[0]:
-                    b0, w0 = b0 - nb[0], 1
-                if nb[1] == 1:
-                    b1, w1 = 0, o1
-                elif b1 < 0:
-                    b1, w1 = b1 + nb[1], -1
-                elif b1 >= nb[1]:
-                    b1, w1 = b1 - nb[1], 1
-                if nb[2] == 1:
-                    b2, w2 = 0, o2
-                elif b2 < 0:
-                    b2, w2 = b2 + nb[2], -1
-                elif b2 >= nb[2]:
-                    b2, w2 = b2 - nb[2], 1
+                b0, w0 = _wrap(b0, o0, nb[0])
+                b1, w1 = _wrap(b1, o1, nb[1])
+                b2, w2 = _wrap(b2, o2, nb[2])
                 bin_ = (b0 * nb[1] + b1) * nb[2] + b2
                 for e in range(start[bin_], start[bin_ + 1]):
                     j = items[e]
