@@ -23,6 +23,7 @@
     # method = "dem"           # the dynamic engine ("Dynamic runs"), with its options:
     # inertial_number = 4e-4; damping = 0.2; density = 1.0; record_every = 1e-3
     # peak_window = 2.5e-3
+    # cell = "rectangular"     # or "flexible" (shear stresses held at zero instead)
 """
 
 from __future__ import annotations
@@ -41,7 +42,7 @@ _SAMPLE = {"lattice", "frame", "cells", "radius", "reference_axis", "tolerance",
 #: The dynamic engine's own keys of [loading] (``triaxial(..., method="dem")``).
 _DEM = ("inertial_number", "damping", "density", "record_every", "peak_window")
 _LOADING = {"kind", "pressure", "axial_strain", "increments", "consolidation_increments",
-            "rtol", "max_cuts", "failure_slope", "consolidation", "method", *_DEM}
+            "rtol", "max_cuts", "failure_slope", "consolidation", "method", "cell", *_DEM}
 
 
 def _table(doc, name, file) -> dict:

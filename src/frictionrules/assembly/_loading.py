@@ -21,7 +21,7 @@ from ._contacts import ContactSet, branches, build, embed, skin
 from ._consolidation import consolidation_of
 from ._geometry import Assembly
 from ._results import ContactSnapshot, SampleState, TriaxialResult
-from ._solver import components, move, solve_increment, stress_of
+from ._solver import CELLS, components, move, solve_increment, stress_of, triaxial_free
 
 __all__ = ["Control", "triaxial", "load_cell", "initial_state", "run", "KINDS", "METHODS"]
 
@@ -168,21 +168,23 @@ def run(assembly: Assembly, state: SampleState, controls, *, rtol: float = 1e-10
 
 
 def _controls(kind: str, d: int, pressure: float, axial_strain: float, increments: int,
-              consolidation: int) -> tuple[list, list]:
+              consolidation: int, cell: str = "rectangular") -> tuple[list, list]:
     comps = components(d)
     diag = np.array([a == b for a, b in comps])
     cons = [Control(tuple([True] * len(comps)), tuple(np.where(diag, pressure * (k + 1) / consolidation, 0.0)),
                     tuple([0.0] * len(comps))) for k in range(consolidation)]
     axial = 1 if d == 2 else 2
-    free = np.ones(len(comps), dtype=bool)
-    free[comps.index((axial, axial))] = False
-    if kind == "plane_strain":
-        free[comps.index((1, 1))] = False
+    free = triaxial_free(kind, d, cell)
     target = np.where(diag, pressure, 0.0)
     step = np.zeros(len(comps))
     step[comps.index((axial, axial))] = axial_strain / increments
     shear = [Control(tuple(free), tuple(np.where(free, target, 0.0)), tuple(step))] * increments
     return cons, shear
+
+
+def check_cell(cell: str) -> None:
+    if cell not in CELLS:
+        raise FrictionRulesError(f"cell = {cell!r} violates: one of {', '.join(CELLS)}")
 
 
 def check_method(method: str) -> None:
@@ -210,7 +212,8 @@ def triaxial(assembly: Assembly, kind: str, *, pressure: float, axial_strain: fl
              max_time: float | None = None, run_file=None,
              consolidation: str = "auto", method: str = "implicit",
              inertial_number: float = 4e-4, damping: float = 0.2, density: float = 1.0,
-             record_every: float = 1e-3, peak_window: float = 2.5e-3) -> TriaxialResult:
+             record_every: float = 1e-3, peak_window: float = 2.5e-3,
+             cell: str = "rectangular") -> TriaxialResult:
     r"""Consolidate the sample to the isotropic ``pressure``, then compress it along the axis.
 
     Two methods: "implicit" (the default) follows equilibrium increment by increment (Newton's
@@ -227,7 +230,7 @@ def triaxial(assembly: Assembly, kind: str, *, pressure: float, axial_strain: fl
     kind : {"axisymmetric", "plane_strain", "biaxial"}
         "axisymmetric": ``σxx = σyy = pressure`` held, ``εzz`` driven; "plane_strain":
         ``εyy = 0``, ``σxx = pressure`` held, ``εzz`` driven; "biaxial" (2-D):
-        ``σxx = pressure`` held, ``εyy`` driven. Shear stresses are held at 0.
+        ``σxx = pressure`` held, ``εyy`` driven.
     pressure : float
         Confining stress (compression positive, force/length² in 3-D, force/length in 2-D).
     axial_strain : float
@@ -275,12 +278,19 @@ def triaxial(assembly: Assembly, kind: str, *, pressure: float, axial_strain: fl
     peak_window : float
         "dem": half-width (axial strain) of the running mean of σ1/σ3 whose largest value is the
         peak (the dynamic ratio fluctuates about its quasi-static value); 0 for none.
+    cell : {"rectangular", "flexible"}
+        The shearing stage's cell: "rectangular" holds its shear strains at zero (rigid smooth
+        platens; YADE's ``PeriTriaxController``, most periodic DEM studies); "flexible" holds
+        its shear stresses at zero (the closed forms of regular arrays, Thornton's and Rowe's,
+        assume it: an array that slides unsymmetrically carries shear stresses in a rectangular
+        cell). :func:`load_cell` frees any component.
 
     Returns
     -------
     TriaxialResult
     """
     check_kind(kind, assembly.dim)
+    check_cell(cell)
     p = check_scalar("pressure", pressure, lo=0.0, lo_open=True)
     a = check_scalar("axial_strain", axial_strain, lo=0.0, lo_open=True, hi=0.5)
     check_method(method)
@@ -290,7 +300,8 @@ def triaxial(assembly: Assembly, kind: str, *, pressure: float, axial_strain: fl
         return dem_triaxial(assembly, kind, pressure=p, axial_strain=a, failure_slope=failure_slope,
                             consolidation=consolidation, progress=progress, max_time=max_time,
                             run_file=run_file, inertial_number=inertial_number, damping=damping,
-                            density=density, record_every=record_every, peak_window=peak_window)
+                            density=density, record_every=record_every, peak_window=peak_window,
+                            cell=cell)
     for name, value, lo in (("increments", increments, 1), ("consolidation_increments",
                                                              consolidation_increments, 1),
                             ("max_cuts", max_cuts, 0)):
@@ -301,8 +312,9 @@ def triaxial(assembly: Assembly, kind: str, *, pressure: float, axial_strain: fl
     if max_time is not None:
         check_scalar("max_time", max_time, lo=0.0, lo_open=True)
     consolidation = consolidation_of(assembly, consolidation)
-    cons, shear = _controls(kind, assembly.dim, p, a, int(increments), int(consolidation_increments))
-    options = dict(kind=kind, pressure=p, axial_strain=a, increments=int(increments),
+    cons, shear = _controls(kind, assembly.dim, p, a, int(increments), int(consolidation_increments),
+                            cell)
+    options = dict(kind=kind, cell=cell, pressure=p, axial_strain=a, increments=int(increments),
                    consolidation_increments=int(consolidation_increments), rtol=rtol,
                    max_cuts=int(max_cuts), failure_slope=failure_slope, consolidation=consolidation)
     return _run_test(assembly, kind, cons, shear, options, progress, max_time, run_file)

@@ -47,6 +47,24 @@ def components(dim: int) -> tuple[tuple[int, int], ...]:
     return ((0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1))
 
 
+#: The cell of a triaxial test's shearing stage: its shear strains held or its shear stresses.
+CELLS = ("rectangular", "flexible")
+
+
+def triaxial_free(kind: str, dim: int, cell: str = "rectangular") -> np.ndarray:
+    """The stress-controlled components of a triaxial test's shearing stage (over
+    :func:`components`): the lateral normal stresses (plane strain: the out-of-plane normal
+    strain held instead), the axial strain driven. ``cell`` "rectangular": the cell's shear
+    strains held at zero, as between rigid smooth platens (and YADE's ``PeriTriaxController``);
+    "flexible": its shear stresses held at zero instead (a flexible membrane all round)."""
+    comps = components(dim)
+    free = np.array([a == b or cell == "flexible" for a, b in comps])
+    free[comps.index((1, 1) if dim == 2 else (2, 2))] = False
+    if kind == "plane_strain":
+        free[comps.index((1, 1))] = False
+    return free
+
+
 def basis(dim: int) -> np.ndarray:
     """``G_k`` (ncomp, 3, 3): ``e_a⊗e_a`` on the diagonal, ``e_a⊗e_b + e_b⊗e_a`` off it, so that
     ``ΔE = Σ_k e_k G_k`` has the tensor components ``e_k``."""

@@ -21,17 +21,18 @@ def check_dem_options(*, inertial_number, damping, density, record_every, peak_w
 
 
 def dem_triaxial(assembly, kind: str, *, pressure: float, axial_strain: float, failure_slope: float,
-                 consolidation: str, progress, max_time, run_file, **dem) -> object:
+                 consolidation: str, progress, max_time, run_file, cell: str = "rectangular",
+                 **dem) -> object:
     """``triaxial(..., method="dem")`` (arguments checked by the caller but ``dem``)."""
     opts = check_dem_options(**dem)
     if opts["record_every"] > axial_strain:
         raise FrictionRulesError(f"record_every = {opts['record_every']!r} violates: at most "
                                  f"axial_strain = {axial_strain!r}")
-    options = dict(kind=kind, method="dem", pressure=pressure, axial_strain=axial_strain,
+    options = dict(kind=kind, method="dem", cell=cell, pressure=pressure, axial_strain=axial_strain,
                    failure_slope=failure_slope, consolidation=consolidation_of(assembly, consolidation),
                    **opts)
     d = assembly.dim
-    return run_test(assembly, kind, lambda dyn, rate: triaxial_stage(kind, d, pressure, axial_strain, rate),
+    return run_test(assembly, kind, lambda dyn, rate: triaxial_stage(kind, d, pressure, axial_strain, rate, cell),
                     options, progress, max_time, run_file)
 
 

@@ -30,7 +30,7 @@ import numpy as np
 from ...errors import FrictionRulesError
 from .._contacts import ContactSet
 from .._results import EnergyTerms, SampleState, TriaxialResult
-from .._solver import components
+from .._solver import components, triaxial_free
 from ._dynamics import Dynamics, unit_rate
 from ._engine import Outcome
 from ._records import read_record
@@ -67,17 +67,16 @@ class StageSpec:
     duration: float
 
 
-def triaxial_stage(kind: str, d: int, pressure: float, axial_strain: float, rate: float) -> StageSpec:
-    """Axial compression at ``rate`` with σ = pressure held across (plane strain: εyy = 0)."""
+def triaxial_stage(kind: str, d: int, pressure: float, axial_strain: float, rate: float,
+                   cell: str = "rectangular") -> StageSpec:
+    """Axial compression at ``rate`` with σ = pressure held across (plane strain: εyy = 0), the
+    cell's shear held as ``cell`` says (:func:`.._solver.triaxial_free`)."""
     comps = components(d)
     diag = np.array([a == b for a, b in comps])
     axial = comps.index((1, 1) if d == 2 else (2, 2))
-    free = np.ones(len(comps), dtype=bool)
-    free[axial] = False
+    free = triaxial_free(kind, d, cell)
     rates = np.zeros(len(comps))
     rates[axial] = rate
-    if kind == "plane_strain":
-        free[comps.index((1, 1))] = False
     target = np.where(diag, pressure, 0.0)
     return StageSpec(free, target, target, rates, axial_strain / rate)
 
