@@ -171,7 +171,9 @@ def _controls(kind: str, d: int, pressure: float, axial_strain: float, increment
               consolidation: int, cell: str = "rectangular") -> tuple[list, list]:
     comps = components(d)
     diag = np.array([a == b for a, b in comps])
-    cons = [Control(tuple([True] * len(comps)), tuple(np.where(diag, pressure * (k + 1) / consolidation, 0.0)),
+    # consolidation: the normal stresses to the pressure, the cell kept rectangular
+    cons = [Control(tuple(bool(b) for b in diag),
+                    tuple(np.where(diag, pressure * (k + 1) / consolidation, 0.0)),
                     tuple([0.0] * len(comps))) for k in range(consolidation)]
     axial = 1 if d == 2 else 2
     free = triaxial_free(kind, d, cell)

@@ -22,9 +22,10 @@ customary half of the P-wave step is 0.27 on 400 spheres of radii ``r̄(1 ± 0.2
 **Cell servo** (the stiffness form of YADE's ``PeriTriaxController``): a stress-controlled
 component ``k`` takes the strain that would cancel its stress error against the affine
 stiffness of the contact network, ``ε_k = (σ_k - σ*_k)/S_k`` with ``S_k = (1/V) Σ_c (K_c G_k
-l)_a l_b`` (``G_k`` the basis of component ``ab``, :func:`.._solver.basis`) (``K_c = kt I + (kn - kt) n n``, the force-carrying contacts), as the rate ``L_k =
-ε_k/dt`` bounded by ``max_rate``. The affine stiffness bounds the network's: the servo never
-overshoots through the affine response, and the grains' relaxation is followed step by step.
+l)_a l_b`` (``G_k`` the basis of component ``ab``, :func:`.._solver.basis`; ``K_c = kt I +
+(kn - kt) n n``, the force-carrying contacts), as the rate ``L_k = ε_k/dt`` bounded by
+``max_rate``. The affine stiffness bounds the network's: the servo never overshoots through
+the affine response, and the grains' relaxation is followed step by step.
 A strain-controlled component has ``L_k = -ε̇_k`` (compression positive ``ε̇``).
 
 **Energy** (``docs/assembly.md``): with ``m dv'/dt = F`` for the fluctuation velocity, the

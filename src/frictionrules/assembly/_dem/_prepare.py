@@ -75,7 +75,7 @@ def frictionless_compression(positions, radii, cell, kn: float, pressure: float,
     dyn, state = _engine(positions, radii, cell, kn, density, damping)
     progress = None if report is None else _Report(report)
     state, _ = consolidate(dyn, state, pressure, _rate(radii, density, pressure), True, progress,
-                           unbalanced_tol=unbalanced_tol, hold_shear=True, name=name)
+                           unbalanced_tol=unbalanced_tol, name=name)
     return _result(dyn, state)
 
 

@@ -10,9 +10,10 @@ takes at the stress rate ``ε̇ k/d`` (``k`` the stiffest contact: an elastic st
 The servo's strain rate is bounded by ``SERVO_RATE ε̇`` during a stage, ``CONSOLIDATION_RATE ε̇``
 during consolidation.
 
-**Consolidation.** Every stress component is driven to the isotropic ``pressure`` (0 off the
-diagonal) until the stress holds (each component within ``STRESS_TOL`` of the pressure)
-with an unbalanced-force ratio below ``UNBALANCED_TOL``: "frictionless" with ``Coulomb(0)`` at
+**Consolidation.** Every normal stress is driven to the isotropic ``pressure``, the cell kept
+rectangular (its shear strains held, as YADE's ``PeriTriaxController``), until the stress
+holds (each component within ``STRESS_TOL`` of the pressure) with an unbalanced-force ratio
+below ``UNBALANCED_TOL``: "frictionless" with ``Coulomb(0)`` at
 every contact, after which the laws take over with virgin tangential histories; "stress" with
 the laws from the start. A consolidation that does not settle within ``CONSOLIDATION_STEPS``
 is an error.
@@ -126,16 +127,15 @@ def _phase(progress, text):
 
 def consolidate(dyn: Dynamics, state, pressure: float, rate: float, frictionless: bool,
                 progress=None, deadline=None, clock=None, unbalanced_tol: float = UNBALANCED_TOL,
-                hold_shear: bool = False, name: str = "consolidation"):
-    """Consolidation (module docstring): the normal stresses driven to ``pressure``, the shear
-    stresses to zero (or the cell's shear strains held: ``hold_shear``, a rectangular cell).
+                name: str = "consolidation"):
+    """Consolidation (module docstring): the normal stresses driven to ``pressure``, the cell's
+    shear strains held (a rectangular cell).
     Returns ``(state, done)``; ``done`` False where the deadline came first."""
     d = dyn.dim
     comps = components(d)
     diag = np.array([a == b for a, b in comps])
     target = np.where(diag, pressure, 0.0)
-    free = diag if hold_shear else np.ones(len(comps), dtype=bool)
-    control = _control(free, target, target, np.zeros(len(comps)), 0.0,
+    control = _control(diag, target, target, np.zeros(len(comps)), 0.0,
                        CONSOLIDATION_RATE * rate, pressure, True, d, unbalanced_tol)
     clock = clock or _Clock()
     start = int(state.meters[0]["steps"])
