@@ -189,6 +189,7 @@ def test_cli_dem_run_writes_its_outputs_and_resumes(tmp_path, monkeypatch, capsy
     ('density = "heavy"', "density = 'heavy' is not a real number"),
     ("record_every = 0.0", "record_every = 0.0 violates record_every > 0.0"),
     ('method = "explicit"', "method = 'explicit' violates: one of implicit, dem"),
+    ('cell = "skewed"', "cell = 'skewed' violates: one of rectangular, flexible"),
 ])
 def test_cli_bad_dem_option_is_one_line(tmp_path, line, named):
     """A bad option of the dynamic engine is refused before the sample is built: exit 2, one

@@ -53,10 +53,12 @@ def _table(doc, name, file) -> dict:
 
 
 def _check_loading(loading: dict, file) -> None:
-    """The method and the dynamic engine's options, checked before the sample is built."""
-    from ._loading import check_method
+    """The method, the cell and the dynamic engine's options, checked before the sample is
+    built."""
+    from ._loading import check_cell, check_method
     try:
         check_method(loading.get("method", "implicit"))
+        check_cell(loading.get("cell", "rectangular"))
         dem = {k: loading[k] for k in _DEM if k in loading}
         if loading.get("method", "implicit") != "dem":
             if dem:
