@@ -60,7 +60,7 @@ def _child(k: int, steps: int) -> dict:
     st, _ = dyn.run(st, squeeze, 1e9, 2000, True)
     dyn.bring_in_laws(st)
     P.start_stage(st)
-    spec = P.triaxial_stage("axisymmetric", 3, 1.0, 0.25, rate)
+    spec = P.triaxial_stage("axisymmetric", 3, 1.0, 0.25, rate, "rectangular")
     ctl = P._control(spec.free, spec.start, spec.end, spec.rate, spec.duration, 10 * rate, 1.0,
                      False, 3)
     st, _ = dyn.run(st, ctl, 1e9, 50)

@@ -51,7 +51,7 @@ def components(dim: int) -> tuple[tuple[int, int], ...]:
 CELLS = ("rectangular", "flexible")
 
 
-def triaxial_free(kind: str, dim: int, cell: str = "rectangular") -> np.ndarray:
+def triaxial_free(kind: str, dim: int, cell: str) -> np.ndarray:
     """The stress-controlled components of a triaxial test's shearing stage (over
     :func:`components`): the lateral normal stresses (plane strain: the out-of-plane normal
     strain held instead), the axial strain driven. ``cell`` "rectangular": the cell's shear

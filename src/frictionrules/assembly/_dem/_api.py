@@ -21,8 +21,7 @@ def check_dem_options(*, inertial_number, damping, density, record_every, peak_w
 
 
 def dem_triaxial(assembly, kind: str, *, pressure: float, axial_strain: float, failure_slope: float,
-                 consolidation: str, progress, max_time, run_file, cell: str = "rectangular",
-                 **dem) -> object:
+                 consolidation: str, progress, max_time, run_file, cell: str, **dem) -> object:
     """``triaxial(..., method="dem")`` (arguments checked by the caller but ``dem``)."""
     opts = check_dem_options(**dem)
     if opts["record_every"] > axial_strain:

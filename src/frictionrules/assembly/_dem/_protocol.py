@@ -69,7 +69,7 @@ class StageSpec:
 
 
 def triaxial_stage(kind: str, d: int, pressure: float, axial_strain: float, rate: float,
-                   cell: str = "rectangular") -> StageSpec:
+                   cell: str) -> StageSpec:
     """Axial compression at ``rate`` with σ = pressure held across (plane strain: εyy = 0), the
     cell's shear held as ``cell`` says (:func:`.._solver.triaxial_free`)."""
     comps = components(d)
