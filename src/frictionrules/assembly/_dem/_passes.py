@@ -47,6 +47,11 @@ __all__ = ["contact_range", "grain_range", "P_VIRIAL", "P_DISSIPATION", "P_FORCE
            "P_SLIDING", "P_OVERLAP", "P_STIFF", "P_FAILED", "P_SIZE", "G_FORCE", "G_KINETIC",
            "G_DAMPING", "G_SHIFT", "G_SIZE", "MAX_DEPTH"]
 
+#: The passes' one relaxation of IEEE arithmetic: a product and a sum may be fused into one
+#: multiply-add (one rounding instead of two). Nothing else (no reassociation, no finite-math
+#: assumptions: the checks for NaN and infinity stay); 400 spheres: 139 -> 126 µs per step.
+_FMA = {"contract"}
+
 #: Substeps of a contact update whose Newton iteration fails: up to 2**MAX_DEPTH.
 MAX_DEPTH = 10
 
@@ -62,7 +67,7 @@ G_FORCE, G_KINETIC, G_DAMPING, G_SHIFT = 0, 1, 2, 3
 G_SIZE = 4
 
 
-@njit(inline="always", error_model="numpy")
+@njit(inline="always", error_model="numpy", fastmath=_FMA)
 def _frame(nx, ny, nz, ax, ay, az):
     """t1 of :func:`frictionrules.assembly._contacts.frames`: the unit projection of the (unit)
     reference axis ``a`` on the contact plane, ``|a - (a·n) n|² = 1 - (a·n)²``; where ``a`` is
@@ -83,7 +88,7 @@ def _frame(nx, ny, nz, ax, ay, az):
     return (ax - an * nx) * inv, (ay - an * ny) * inv, (az - an * nz) * inv
 
 
-@njit(inline="always", error_model="numpy")
+@njit(inline="always", error_model="numpy", fastmath=_FMA)
 def _carry(u1, u2, t10, t11, t12, t20, t21, t22, m0, m1, m2, k,
            nx, ny, nz, t1x, t1y, t1z, t2x, t2y, t2z, ct, st):
     """The tangential vector ``u1 t1_old + u2 t2_old`` turned with the contact (``m = n_old +
@@ -98,7 +103,7 @@ def _carry(u1, u2, t10, t11, t12, t20, t21, t22, m0, m1, m2, k,
     return vx * t1x + vy * t1y + vz * t1z, vx * t2x + vy * t2y + vz * t2z
 
 
-@njit(inline="always", error_model="numpy")
+@njit(inline="always", error_model="numpy", fastmath=_FMA)
 def _normal_only(kn, s, dun, s1, res, width):
     """A frictionless contact: the normal elastic response alone, ``N = -kn e_n`` while
     ``e_n = e_n + Δδn < 0``, no tangential force and no tangential history (the update of
@@ -116,7 +121,7 @@ def _normal_only(kn, s, dun, s1, res, width):
     return ELASTIC if en < 0.0 else OPEN
 
 
-@njit(error_model="numpy", _nrt=False, cache=True)
+@njit(error_model="numpy", _nrt=False, cache=True, fastmath=_FMA)
 def contact_range(lo, hi, fn, row, virgin, ws, lists, grains, cell, pairs, params, scratch, part):
     """Pairs ``order[lo:hi]`` (all of one contact model: ``fn``, ``row``, ``virgin``; ``ws``
     the workspace of its ``nq``). ``scratch = (s, du, res, tan)``; ``part`` the chunk's row."""
@@ -266,7 +271,7 @@ def contact_range(lo, hi, fn, row, virgin, ws, lists, grains, cell, pairs, param
         part[P_FAILED] = bad
 
 
-@njit(inline="always", error_model="numpy")
+@njit(inline="always", error_model="numpy", fastmath=_FMA)
 def _damped_step(F, old, inv, dt, lam):
     """One component of the leapfrog with Cundall's damping: the new velocity (or spin) under
     the force (or moment) ``F`` and inverse mass (or moment of inertia) ``inv``, the work lost
@@ -277,7 +282,7 @@ def _damped_step(F, old, inv, dt, lam):
     return new, damp * F * 0.5 * (old + new) * dt, new * new / inv
 
 
-@njit(error_model="numpy", _nrt=False, cache=True)
+@njit(error_model="numpy", _nrt=False, cache=True, fastmath=_FMA)
 def grain_range(lo, hi, lists, grains, cell, pairs, params, F_build, part):
     """Grains ``lo <= g < hi``: gather, damp, integrate. ``F_build = H_new H_build^{-1}`` for
     the displacement since the neighbour build; ``part`` the chunk's row."""
