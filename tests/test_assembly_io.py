@@ -71,6 +71,24 @@ def test_random_packing_seeded_and_dense():
     assert np.ptp(a.radii) > 0.2 and np.all(np.abs(a.radii - 1) <= 0.2)
 
 
+def test_random_packing_numbers_its_grains_by_position():
+    """Grains numbered by the bins they lie in: consecutive grains are neighbours (the dynamic
+    engine's passes then read memory in order), the radii unchanged as a set."""
+    a = random_packing(2000, 3, polydispersity=0.2, solid_fraction=0.2, seed=1)
+    L = a.cell[0, 0]
+
+    def distance(u, v):
+        d = (u - v) - L * np.round((u - v) / L)
+        return np.linalg.norm(d, axis=1)
+
+    consecutive = distance(a.positions[1:], a.positions[:-1]).mean()
+    shuffled = np.random.default_rng(0).permutation(len(a.radii))
+    anywhere = distance(a.positions[shuffled[1:]], a.positions[shuffled[:-1]]).mean()
+    assert consecutive < 0.5 * anywhere
+    rng = np.random.default_rng(1)
+    np.testing.assert_allclose(np.sort(a.radii), np.sort(1 + 0.2 * rng.uniform(-1, 1, 2000)))
+
+
 def test_random_assembly_biaxial_few_increments():
     """A random packing of disks: frictionless preparation to the pressure, then shear; the
     power balance holds at every increment."""

