@@ -69,6 +69,21 @@ def test_random_packing_is_jammed_and_seeded(sample):
     assert np.array_equal(again.positions, sample.positions)
 
 
+def test_frictionless_consolidation_by_fire_ends_in_equilibrium(sample):
+    """The frictionless consolidation moves its grains by FIRE (only its end state matters):
+    it ends where every normal stress is within 1e-3 of the pressure with an unbalanced-force
+    ratio below 1e-4 (the rectangular cell leaves the shear stresses to the packing), and its
+    step never left FIRE's bounds."""
+    from frictionrules.assembly._dem import _engine
+    r = _run(sample, Coulomb(0.5), strain=0.001, record_every=0.001)
+    first = r.stress[0]
+    np.testing.assert_allclose(np.diag(first), 1.0, atol=1e-3 + 1e-12)
+    assert r.unbalanced_force[0] < 1e-4
+    meters = r.engine.meters[0]
+    dt = 0.25 * np.sqrt(1.0 * 4 / 3 * np.pi * sample.radii.min() ** 3 / 1e4)
+    assert _engine.FIRE_DT_MIN * dt <= meters["fire_dt"] <= _engine.FIRE_DT_MAX * dt * (1 + 1e-12)
+
+
 def test_records_and_energy_balance(sample):
     """Boundary work = the laws' dissipation + elastic + kinetic energy + damping loss, to 1 %
     of the boundary work; a record every 0.1 % of Hencky strain (at the first step past it:

@@ -13,7 +13,7 @@ The procedure (``docs/assembly.md``, "Random packings"):
    frictionless grains with unit normal springs ``kn`` are compressed by the cell's servo
    until they carry the isotropic stress ``kn/(κ d)`` (``κ`` = :data:`PREPARATION_KAPPA`,
    ``d`` the mean diameter: overlaps of about ``d/κ``) with an unbalanced-force ratio below
-   :data:`PREPARATION_UNBALANCED` (damping :data:`PACKING_DAMPING`) — random close
+   :data:`PREPARATION_UNBALANCED` (the grains moving by FIRE) — random close
    packing, the jammed state of frictionless grains; with ``solid_fraction`` given the cell
    is compressed to it at a constant rate and held until no grains overlap;
 4. the cell is scaled up by the least factor that removes the overlaps: the grains of the
@@ -39,12 +39,11 @@ START = {2: 0.5, 3: 0.3}
 #: Stiffness number ``kn/(p d)`` of the compaction's end: the packing's contacts overlap by
 #: about ``d/κ`` before the cell is scaled to remove the overlaps.
 PREPARATION_KAPPA = 1e3
-#: ... its unbalanced-force ratio (consolidation then balances the forces to its own) ...
+#: ... and its unbalanced-force ratio (consolidation then balances the forces to its own).
+#: (Measured on spheres r(1 ± 0.2): κ = 1e4 with a ratio of 1e-3 took 23 s for 400 grains and
+#: 236 s for 1000, these 4.6 s and 8.7 s by damped dynamics: near jamming the servo's every
+#: move of the cell stirs the packing again; by FIRE 2000 grains take 10–14 s against 26 s.)
 PREPARATION_UNBALANCED = 1e-2
-#: ... and the damping of its dynamics. (Measured on spheres r(1 ± 0.2): κ = 1e4 with a ratio
-#: of 1e-3 and damping 0.7 took 23 s for 400 grains and 236 s for 1000, these 4.6 s and 8.7 s:
-#: near jamming the servo's every move of the cell stirs the packing again.)
-PACKING_DAMPING = 0.5
 #: Solid fraction of random close packing of equal grains (disks, spheres): the densest a
 #: random packing gets, so the smallest its cell can be.
 JAMMED = {2: 0.84, 3: 0.64}
@@ -216,7 +215,7 @@ def random_packing(n: int, dim: int, *, radius=1.0, polydispersity: float = 0.0,
         return Packing(x, radii, cell, 0.0, False)
     x, cell = frictionless_compression(x, radii, cell, 1.0, 1.0 / (PREPARATION_KAPPA * 2 * r0),
                                        unbalanced_tol=PREPARATION_UNBALANCED,
-                                       damping=PACKING_DAMPING, report=report,
+                                       report=report,
                                        name="packing")
     # the least expansion that leaves no overlap: the contacts of the compressed packing just
     # touch, their gaps the tolerance

@@ -164,7 +164,8 @@ class Dynamics:
 
     def params(self, frictionless: bool = False) -> Params:
         dt = time_step(float(self.mass.min()), self.k_max)
-        return Params(dt=dt, frictionless=int(frictionless), **self._params)
+        return Params(dt=dt, frictionless=int(frictionless), fire=int(frictionless),
+                      **self._params)
 
     # ---- state -------------------------------------------------------------------------------
     def init(self) -> DemState:
@@ -179,13 +180,14 @@ class Dynamics:
 
     def _scratch(self, width):
         """Each chunk's scratch rows and partial sums, every row on cache lines of its own (a
-        thread writing its row would otherwise invalidate its neighbours': false sharing)."""
+        thread writing its row would otherwise invalidate its neighbours': false sharing), and the
+        forces on the grains of a FIRE step."""
         def rows(*shape):
             size = int(np.prod(shape))
             line = -(-size // _LINE) * _LINE
             return np.zeros((CHUNKS, line))[:, :size].reshape((CHUNKS,) + shape)
         return ((rows(width), rows(3), rows(6), rows(3, 3)),
-                (rows(P_SIZE), rows(G_SIZE), np.zeros(6)))
+                (rows(P_SIZE), rows(G_SIZE), np.zeros(6), np.zeros((len(self.mass), 3))))
 
     def run(self, state: DemState, control, stop_time: float, max_steps: int,
             frictionless: bool = False) -> tuple[DemState, int]:

@@ -28,6 +28,17 @@ l)_a l_b`` (``G_k`` the basis of component ``ab``, :func:`.._solver.basis`; ``K_
 the affine response, and the grains' relaxation is followed step by step.
 A strain-controlled component has ``L_k = -ε̇_k`` (compression positive ``ε̇``).
 
+**Frictionless stages** (consolidation, packing) only need their end state, an equilibrium:
+their grains move by FIRE (Bitzek, Koskinen, Gähler, Moseler & Gumbsch 2006, PRL 97 170201)
+instead of damped dynamics. With the power ``P = F·v`` over all grains after the contact
+pass: ``P > 0`` mixes every velocity towards its force, ``v ← (1 - α) v + α (|v|/|F|) F``,
+and after ``FIRE_DELAY`` such steps grows ``dt`` (by ``FIRE_GROW``, to ``FIRE_DT_MAX`` times
+the engine's) and decays ``α``; ``P ≤ 0`` stops every grain, cuts ``dt`` and resets ``α``;
+then ``v ← v + dt F/m``, ``x ← x + dt (v + L x)`` (no spins: frictionless contacts carry no
+moment). The cell's servo runs as in any stage, with the step of the moment. (Measured on
+YADE's clouds of 400 spheres, the consolidation to an unbalanced-force ratio of 1e-4 took
+40k–82k steps against 78k–161k by damped dynamics, at the same solid fraction.)
+
 **Energy** (``docs/assembly.md``): with ``m dv'/dt = F`` for the fluctuation velocity, the
 power of the boundary ``-V σ:L`` equals the power taken by the contacts' laws (stored plus
 dissipated) plus the rate of the fluctuating kinetic energy plus the damping's loss. The
@@ -44,9 +55,9 @@ import numpy as np
 from numba import njit, prange
 
 from ._neighbours import build_pairs, grain_lists, match_keys
-from ._passes import (G_DAMPING, G_FORCE, G_KINETIC, G_SHIFT, P_CLOSED, P_DISSIPATION,
-                      P_FAILED, P_FORCE, P_OVERLAP, P_SLIDING, P_STIFF, P_VIRIAL,
-                      contact_range, grain_range)
+from ._passes import (F_FORCE, F_FORCE2, F_POWER, F_SPEED2, G_DAMPING, G_FORCE, G_KINETIC,
+                      G_SHIFT, P_CLOSED, P_DISSIPATION, P_FAILED, P_FORCE, P_OVERLAP, P_SLIDING,
+                      P_STIFF, P_VIRIAL, contact_range, fire_range, gather_range, grain_range)
 from ._state import Cell, Grains, Lists, Pairs
 
 __all__ = ["SAFETY", "time_step", "advance", "rebuild", "lists_of", "CHUNKS", "Outcome"]
@@ -160,15 +171,61 @@ _PARALLEL = {"prange": True, "numpy": False, "setitem": False, "reduction": Fals
              "comprehension": False, "stencil": False, "fusion": False, "inplace_binop": False}
 
 
+#: FIRE in a frictionless stage (module docstring): steps downhill before the step may grow,
+#: its growth and its cut, the mixing's start and decay, the largest and the smallest step
+#: (times the engine's ``dt``).
+FIRE_DELAY, FIRE_GROW, FIRE_CUT, FIRE_ALPHA, FIRE_DECAY, FIRE_DT_MAX, FIRE_DT_MIN = (
+    5, 1.1, 0.5, 0.1, 0.99, 1.5, 0.02)
+
+
+@njit(parallel=_PARALLEL, cache=True, error_model="numpy")
+def _fire_step(lists, grains, cell, pairs, params, m, dt, force, F_build, gpart):
+    """A FIRE step of the grains (module docstring): the forces gathered with the power
+    ``F·v`` and the norms, the velocities mixed (or stopped after an uphill step), the Euler
+    step. Returns ``Σ|F|`` and the next step's ``dt``."""
+    gchunk = lists.grain_chunk
+    ngchunk = gchunk.shape[0] - 1
+    for k in prange(ngchunk):
+        gather_range(gchunk[k], gchunk[k + 1], lists, grains, pairs, force, gpart[k])
+    power = f2 = v2 = fsum = 0.0
+    for k in range(ngchunk):
+        power += gpart[k, F_POWER]
+        f2 += gpart[k, F_FORCE2]
+        v2 += gpart[k, F_SPEED2]
+        fsum += gpart[k, F_FORCE]
+    gpart[:, :] = 0.0
+    if m.fire_alpha <= 0.0:
+        m.fire_alpha = FIRE_ALPHA
+    alpha = m.fire_alpha
+    dt_next = dt
+    if power > 0.0 or f2 == 0.0:
+        keep = 1.0 - alpha
+        mix = alpha * math.sqrt(v2 / f2) if f2 > 0.0 else 0.0
+        m.fire_npos += 1
+        if m.fire_npos > FIRE_DELAY:
+            dt_next = min(dt * FIRE_GROW, FIRE_DT_MAX * params.dt)
+            m.fire_alpha = alpha * FIRE_DECAY
+    else:
+        keep = mix = 0.0
+        m.fire_npos = 0
+        dt_next = max(dt * FIRE_CUT, FIRE_DT_MIN * params.dt)
+        m.fire_alpha = FIRE_ALPHA
+    for k in prange(ngchunk):
+        fire_range(gchunk[k], gchunk[k + 1], grains, cell, force, dt, keep, mix, F_build, gpart[k])
+    return fsum, dt_next
+
+
 @njit(parallel=_PARALLEL, cache=True, error_model="numpy")
 def _advance(lists, grains, cell, pairs, laws, workspaces, params, control, meters, stress,
              scratch, parts, max_steps, stop_time):
     m = meters[0]
     dt, dim = params.dt, params.dim
+    if params.fire and m.fire_dt > 0.0:
+        dt = m.fire_dt
     chunk, gchunk, gstart = lists.chunk, lists.grain_chunk, lists.group_start
     nchunk, ngchunk = chunk.shape[0] - 1, gchunk.shape[0] - 1
     G = laws.fn.shape[0]
-    part, gpart, stiff = parts
+    part, gpart, stiff, force = parts
     S, DU, RES, TAN = scratch
     H, L = cell.H, cell.L
     L_old = np.empty((3, 3))
@@ -229,11 +286,18 @@ def _advance(lists, grains, cell, pairs, laws, workspaces, params, control, mete
                 H_new[a, b] = acc
         F_build[:, :] = H_new @ Hb_inv
         gpart[:, :] = 0.0
-        for k in prange(ngchunk):
-            grain_range(gchunk[k], gchunk[k + 1], lists, grains, cell, pairs, params, F_build, gpart[k])
-        fsum = kin = loss = shift = 0.0
+        if params.fire:
+            fsum, dt_next = _fire_step(lists, grains, cell, pairs, params, m, dt, force, F_build,
+                                       gpart)
+        else:
+            for k in prange(ngchunk):
+                grain_range(gchunk[k], gchunk[k + 1], lists, grains, cell, pairs, params, F_build,
+                            gpart[k])
+            fsum = 0.0
+            for k in range(ngchunk):
+                fsum += gpart[k, G_FORCE]
+        kin = loss = shift = 0.0
         for k in range(ngchunk):
-            fsum += gpart[k, G_FORCE]
             kin += gpart[k, G_KINETIC]
             loss += gpart[k, G_DAMPING]
             shift = max(shift, gpart[k, G_SHIFT])
@@ -247,6 +311,9 @@ def _advance(lists, grains, cell, pairs, laws, workspaces, params, control, mete
         m.time += dt
         m.stage_time += dt
         m.steps += 1
+        if params.fire:
+            dt = dt_next
+            m.fire_dt = dt
         if not (math.isfinite(kin) and math.isfinite(m.boundary_work)):
             return 5, step + 1  # UNSTABLE
         strain = 0.0

@@ -45,7 +45,8 @@ from ._state import ELASTIC, OPEN, PLASTIC
 
 __all__ = ["contact_range", "grain_range", "P_VIRIAL", "P_DISSIPATION", "P_FORCE", "P_CLOSED",
            "P_SLIDING", "P_OVERLAP", "P_STIFF", "P_FAILED", "P_SIZE", "G_FORCE", "G_KINETIC",
-           "G_DAMPING", "G_SHIFT", "G_SIZE", "MAX_DEPTH"]
+           "G_DAMPING", "G_SHIFT", "G_SIZE", "MAX_DEPTH", "gather_range", "fire_range", "F_POWER",
+           "F_FORCE2", "F_SPEED2", "F_FORCE"]
 
 #: The passes' one relaxation of IEEE arithmetic: a product and a sum may be fused into one
 #: multiply-add (one rounding instead of two). Nothing else (no reassociation, no finite-math
@@ -337,4 +338,69 @@ def grain_range(lo, hi, lists, grains, cell, pairs, params, F_build, part):
     part[G_FORCE] += fsum
     part[G_KINETIC] += kinetic
     part[G_DAMPING] += damping
+    part[G_SHIFT] = max(part[G_SHIFT], math.sqrt(largest))
+
+
+#: Columns of a grain chunk's partial sums in a FIRE step's first pass: ``F·v``, ``|F|²``,
+#: ``|v|²``, ``Σ|F|``.
+F_POWER, F_FORCE2, F_SPEED2, F_FORCE = 0, 1, 2, 3
+
+
+@njit(error_model="numpy", _nrt=False, cache=True, fastmath=_FMA)
+def gather_range(lo, hi, lists, grains, pairs, force, part):
+    """Grains ``lo <= g < hi``: the force on each from its pairs into ``force`` (a frictionless
+    stage: no moments), and the chunk's ``F·v``, ``|F|²``, ``|v|²`` and ``Σ|F|``."""
+    start, entry = lists.grain_start, lists.grain_entry
+    v = grains.v
+    GF = pairs.gforce
+    power = f2 = v2 = fsum = 0.0
+    for g in range(lo, hi):
+        f0 = f1 = f2g = 0.0
+        for e in range(start[g], start[g + 1]):
+            code = entry[e]
+            c = code >> 1
+            if code & 1:
+                f0 -= GF[c, 0]
+                f1 -= GF[c, 1]
+                f2g -= GF[c, 2]
+            else:
+                f0 += GF[c, 0]
+                f1 += GF[c, 1]
+                f2g += GF[c, 2]
+        force[g, 0], force[g, 1], force[g, 2] = f0, f1, f2g
+        power += f0 * v[g, 0] + f1 * v[g, 1] + f2g * v[g, 2]
+        ff = f0 * f0 + f1 * f1 + f2g * f2g
+        f2 += ff
+        v2 += v[g, 0] * v[g, 0] + v[g, 1] * v[g, 1] + v[g, 2] * v[g, 2]
+        fsum += math.sqrt(ff)
+    part[F_POWER] += power
+    part[F_FORCE2] += f2
+    part[F_SPEED2] += v2
+    part[F_FORCE] += fsum
+
+
+@njit(error_model="numpy", _nrt=False, cache=True, fastmath=_FMA)
+def fire_range(lo, hi, grains, cell, force, dt, keep, mix, F_build, part):
+    """Grains ``lo <= g < hi``: FIRE's velocity ``v ← keep ((1 - α) v) + mix F`` (``keep``
+    the factor ``1 - α``, or 0 after an uphill step; ``mix = α |v|/|F|``), then the
+    semi-implicit Euler step ``v ← v + dt F/m``, ``x ← x + dt (v + L x)``; spins stay zero. The
+    chunk's kinetic energy and largest non-affine displacement since the neighbour build."""
+    x, v, w, im, xb = grains.x, grains.v, grains.w, grains.inv_mass, grains.x_build
+    L = cell.L
+    kinetic = largest = 0.0
+    for g in range(lo, hi):
+        for a in range(3):
+            f = force[g, a]
+            v[g, a] = keep * v[g, a] + mix * f + dt * f * im[g]
+            w[g, a] = 0.0
+        kinetic += 0.5 * (v[g, 0] ** 2 + v[g, 1] ** 2 + v[g, 2] ** 2) / im[g]
+        x0, x1, x2 = x[g, 0], x[g, 1], x[g, 2]
+        x[g, 0] = x0 + dt * (v[g, 0] + L[0, 0] * x0 + L[0, 1] * x1 + L[0, 2] * x2)
+        x[g, 1] = x1 + dt * (v[g, 1] + L[1, 0] * x0 + L[1, 1] * x1 + L[1, 2] * x2)
+        x[g, 2] = x2 + dt * (v[g, 2] + L[2, 0] * x0 + L[2, 1] * x1 + L[2, 2] * x2)
+        d0 = x[g, 0] - (F_build[0, 0] * xb[g, 0] + F_build[0, 1] * xb[g, 1] + F_build[0, 2] * xb[g, 2])
+        d1 = x[g, 1] - (F_build[1, 0] * xb[g, 0] + F_build[1, 1] * xb[g, 1] + F_build[1, 2] * xb[g, 2])
+        d2 = x[g, 2] - (F_build[2, 0] * xb[g, 0] + F_build[2, 1] * xb[g, 1] + F_build[2, 2] * xb[g, 2])
+        largest = max(largest, d0 * d0 + d1 * d1 + d2 * d2)
+    part[G_KINETIC] += kinetic
     part[G_SHIFT] = max(part[G_SHIFT], math.sqrt(largest))

@@ -7,6 +7,7 @@ shear strains held (a rectangular cell); the compression ends where each normal 
 :data:`._protocol.STRESS_TOL` of the pressure with an unbalanced-force ratio below
 :data:`._protocol.UNBALANCED_TOL` (YADE's ``PeriTriaxController`` with ``maxUnbalanced``).
 A cloud far below jamming carries no stress: the servo then compresses at its largest rate.
+The grains of these frictionless stages move by FIRE (:mod:`._engine`).
 """
 
 from __future__ import annotations
@@ -21,14 +22,11 @@ from ._dynamics import Dynamics
 from ._engine import Outcome
 from ._protocol import CONSOLIDATION_RATE, UNBALANCED_TOL, _Clock, _control, consolidate
 
-__all__ = ["frictionless_compression", "compress_to", "PREPARATION_INERTIAL_NUMBER",
-           "PREPARATION_DAMPING"]
+__all__ = ["frictionless_compression", "compress_to", "PREPARATION_INERTIAL_NUMBER"]
 
 #: Inertial number of a preparation's strain rate (a compression the grains follow
-#: quasi-statically) ...
+#: quasi-statically; the grains move by FIRE, :mod:`._engine`: only the end state matters).
 PREPARATION_INERTIAL_NUMBER = 1e-3
-#: ... and the damping of its dynamics (only the end state matters).
-PREPARATION_DAMPING = 0.7
 
 
 class _Cloud(NamedTuple):
@@ -45,12 +43,12 @@ class _Cloud(NamedTuple):
         return self.positions.shape[1]
 
 
-def _engine(positions, radii, cell, kn: float, density: float, damping: float):
+def _engine(positions, radii, cell, kn: float, density: float):
     from ...contact import ContactModel
     from ...laws import Coulomb
     sample = _Cloud(np.asarray(positions, float), np.asarray(radii, float),
                     np.asarray(cell, float), ContactModel(Coulomb(0.0), kn=kn, kt=kn))
-    dyn = Dynamics(sample, density=density, damping=damping)
+    dyn = Dynamics(sample, density=density, damping=0.0)  # frictionless stages move by FIRE
     return dyn, dyn.init()
 
 
@@ -66,13 +64,13 @@ def _result(dyn, state):
 
 
 def frictionless_compression(positions, radii, cell, kn: float, pressure: float, *,
-                             density: float = 1.0, damping: float = PREPARATION_DAMPING,
+                             density: float = 1.0,
                              unbalanced_tol: float = UNBALANCED_TOL, report=None,
                              name: str = "consolidation") -> tuple[np.ndarray, np.ndarray]:
     """Compress frictionless grains (normal springs ``kn``) until they carry the isotropic
     ``pressure`` in equilibrium (module docstring). Returns ``(positions, cell)``;
     ``report(text)``, when given, hears how the compression goes (its stage called ``name``)."""
-    dyn, state = _engine(positions, radii, cell, kn, density, damping)
+    dyn, state = _engine(positions, radii, cell, kn, density)
     progress = None if report is None else _Report(report)
     state, _ = consolidate(dyn, state, pressure, _rate(radii, density, pressure), True, progress,
                            unbalanced_tol=unbalanced_tol, name=name)
@@ -80,11 +78,11 @@ def frictionless_compression(positions, radii, cell, kn: float, pressure: float,
 
 
 def compress_to(positions, radii, cell, solid_fraction: float, *, kn: float = 1.0,
-                density: float = 1.0, damping: float = PREPARATION_DAMPING):
+                density: float = 1.0):
     """Compress the cell isotropically (every normal strain at the same rate) to the
     ``solid_fraction``, then hold it until the grains' overlaps are gone (a packing below
     jamming carries no stress). Returns ``(positions, cell)``."""
-    dyn, state = _engine(positions, radii, cell, kn, density, damping)
+    dyn, state = _engine(positions, radii, cell, kn, density)
     d = dyn.dim
     r = np.asarray(radii, float)
     solid = float(np.sum(np.pi * r**2 if d == 2 else 4.0 / 3.0 * np.pi * r**3))

@@ -30,7 +30,7 @@ from ...laws import LawState
 from .._results import ContactSnapshot
 from .._runfile import open_h5
 from ._records import Record
-from ._state import METERS, Cell, DemState, Grains, Pairs
+from ._state import METERS, Cell, DemState, Grains, Pairs, new_meters
 
 __all__ = ["DemRunFile"]
 
@@ -119,7 +119,11 @@ class DemRunFile:
         grains = Grains(**{k: np.asarray(v) for k, v in g["grains"].items()})
         cell = Cell(**{k: np.asarray(v) for k, v in g["cell"].items()})
         pairs = Pairs(**{k: np.asarray(v) for k, v in g["pairs"].items()})
-        meters = np.asarray(g["meters"]).astype(METERS)
+        saved = np.asarray(g["meters"])
+        meters = new_meters()  # a file of an older version lacks the newer meters
+        for name in saved.dtype.names:
+            if name in METERS.names:
+                meters[name] = saved[name]
         state = DemState(grains, cell, pairs, np.asarray(g["stress"]), meters)
         dyn.restore_groups(np.asarray(g["group_keys"]))
         return str(g.attrs["stage"]), state, records

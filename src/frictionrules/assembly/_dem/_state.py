@@ -105,7 +105,8 @@ class Params(NamedTuple):
     """Numbers of a run: time step, Cundall's damping coefficient, skin, reference axis of the
     contact frames, dimension, the largest overlap accepted (a fraction of the smaller radius),
     the neighbours' cut-off ``2 r_max + skin``; ``frictionless`` 1 during a frictionless stage
-    (:func:`._passes.contact_range`)."""
+    (:func:`._passes.contact_range`), ``fire`` 1 where its grains move by FIRE
+    (:mod:`._engine`)."""
 
     dt: float
     damping: float
@@ -117,6 +118,7 @@ class Params(NamedTuple):
     max_overlap: float
     cutoff: float
     frictionless: int
+    fire: int
 
 
 class Control(NamedTuple):
@@ -146,11 +148,12 @@ class Control(NamedTuple):
 #: since the start of the stage (boundary work, the laws' dissipation, the damping's loss) and
 #: the kinetic energy at the last half step; the unbalanced-force ratio, force-carrying and
 #: sliding contacts, the largest overlap over the smaller radius; the first pair whose update
-#: failed (-1: none).
+#: failed (-1: none); FIRE's step, mixing and count of steps downhill (0: not started).
 METERS = np.dtype([("time", "f8"), ("steps", "i8"), ("stage_time", "f8"), ("boundary_work", "f8"),
                    ("dissipation", "f8"), ("damping_loss", "f8"), ("kinetic", "f8"),
                    ("unbalanced", "f8"), ("closed", "i8"), ("sliding", "i8"),
-                   ("max_overlap", "f8"), ("failed_pair", "i8"), ("max_shift", "f8")])
+                   ("max_overlap", "f8"), ("failed_pair", "i8"), ("max_shift", "f8"),
+                   ("fire_dt", "f8"), ("fire_alpha", "f8"), ("fire_npos", "i8")])
 
 
 def new_meters() -> np.ndarray:
