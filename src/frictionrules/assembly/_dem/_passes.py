@@ -283,6 +283,43 @@ def _damped_step(F, old, inv, dt, lam):
     return new, damp * F * 0.5 * (old + new) * dt, new * new / inv
 
 
+@njit(inline="always", error_model="numpy", fastmath=_FMA)
+def _gather(g, start, entry, GF, TQ, moments):
+    """The force on grain ``g`` from its pairs, and the sum of their ``n × g`` (``moments``)."""
+    f0 = f1 = f2 = 0.0
+    m0 = m1 = m2 = 0.0
+    for e in range(start[g], start[g + 1]):
+        code = entry[e]
+        c = code >> 1
+        if code & 1:
+            f0 -= GF[c, 0]
+            f1 -= GF[c, 1]
+            f2 -= GF[c, 2]
+        else:
+            f0 += GF[c, 0]
+            f1 += GF[c, 1]
+            f2 += GF[c, 2]
+        if moments:
+            m0 += TQ[c, 0]
+            m1 += TQ[c, 1]
+            m2 += TQ[c, 2]
+    return f0, f1, f2, m0, m1, m2
+
+
+@njit(inline="always", error_model="numpy", fastmath=_FMA)
+def _move(g, x, v, L, dt, F_build, xb):
+    """``x ← x + dt (v + L x)`` of grain ``g``; the square of its displacement since the
+    neighbour build apart from the affine one."""
+    x0, x1, x2 = x[g, 0], x[g, 1], x[g, 2]
+    x[g, 0] = x0 + dt * (v[g, 0] + L[0, 0] * x0 + L[0, 1] * x1 + L[0, 2] * x2)
+    x[g, 1] = x1 + dt * (v[g, 1] + L[1, 0] * x0 + L[1, 1] * x1 + L[1, 2] * x2)
+    x[g, 2] = x2 + dt * (v[g, 2] + L[2, 0] * x0 + L[2, 1] * x1 + L[2, 2] * x2)
+    d0 = x[g, 0] - (F_build[0, 0] * xb[g, 0] + F_build[0, 1] * xb[g, 1] + F_build[0, 2] * xb[g, 2])
+    d1 = x[g, 1] - (F_build[1, 0] * xb[g, 0] + F_build[1, 1] * xb[g, 1] + F_build[1, 2] * xb[g, 2])
+    d2 = x[g, 2] - (F_build[2, 0] * xb[g, 0] + F_build[2, 1] * xb[g, 1] + F_build[2, 2] * xb[g, 2])
+    return d0 * d0 + d1 * d1 + d2 * d2
+
+
 @njit(error_model="numpy", _nrt=False, cache=True, fastmath=_FMA)
 def grain_range(lo, hi, lists, grains, cell, pairs, params, F_build, part):
     """Grains ``lo <= g < hi``: gather, damp, integrate. ``F_build = H_new H_build^{-1}`` for
@@ -295,22 +332,7 @@ def grain_range(lo, hi, lists, grains, cell, pairs, params, F_build, part):
     dt, lam = params.dt, params.damping
     fsum = kinetic = damping = largest = 0.0
     for g in range(lo, hi):
-        f0 = f1 = f2 = 0.0
-        m0 = m1 = m2 = 0.0
-        for e in range(start[g], start[g + 1]):
-            code = entry[e]
-            c = code >> 1
-            if code & 1:
-                f0 -= GF[c, 0]
-                f1 -= GF[c, 1]
-                f2 -= GF[c, 2]
-            else:
-                f0 += GF[c, 0]
-                f1 += GF[c, 1]
-                f2 += GF[c, 2]
-            m0 += TQ[c, 0]
-            m1 += TQ[c, 1]
-            m2 += TQ[c, 2]
+        f0, f1, f2, m0, m1, m2 = _gather(g, start, entry, GF, TQ, True)
         r = R[g]
         m0, m1, m2 = r * m0, r * m1, r * m2
         fsum += math.sqrt(f0 * f0 + f1 * f1 + f2 * f2)
@@ -327,14 +349,7 @@ def grain_range(lo, hi, lists, grains, cell, pairs, params, F_build, part):
             kin += k
         kinetic += 0.5 * kin
         damping += loss
-        x0, x1, x2 = x[g, 0], x[g, 1], x[g, 2]
-        x[g, 0] = x0 + dt * (v[g, 0] + L[0, 0] * x0 + L[0, 1] * x1 + L[0, 2] * x2)
-        x[g, 1] = x1 + dt * (v[g, 1] + L[1, 0] * x0 + L[1, 1] * x1 + L[1, 2] * x2)
-        x[g, 2] = x2 + dt * (v[g, 2] + L[2, 0] * x0 + L[2, 1] * x1 + L[2, 2] * x2)
-        d0 = x[g, 0] - (F_build[0, 0] * xb[g, 0] + F_build[0, 1] * xb[g, 1] + F_build[0, 2] * xb[g, 2])
-        d1 = x[g, 1] - (F_build[1, 0] * xb[g, 0] + F_build[1, 1] * xb[g, 1] + F_build[1, 2] * xb[g, 2])
-        d2 = x[g, 2] - (F_build[2, 0] * xb[g, 0] + F_build[2, 1] * xb[g, 1] + F_build[2, 2] * xb[g, 2])
-        largest = max(largest, d0 * d0 + d1 * d1 + d2 * d2)
+        largest = max(largest, _move(g, x, v, L, dt, F_build, xb))
     part[G_FORCE] += fsum
     part[G_KINETIC] += kinetic
     part[G_DAMPING] += damping
@@ -355,18 +370,7 @@ def gather_range(lo, hi, lists, grains, pairs, force, part):
     GF = pairs.gforce
     power = f2 = v2 = fsum = 0.0
     for g in range(lo, hi):
-        f0 = f1 = f2g = 0.0
-        for e in range(start[g], start[g + 1]):
-            code = entry[e]
-            c = code >> 1
-            if code & 1:
-                f0 -= GF[c, 0]
-                f1 -= GF[c, 1]
-                f2g -= GF[c, 2]
-            else:
-                f0 += GF[c, 0]
-                f1 += GF[c, 1]
-                f2g += GF[c, 2]
+        f0, f1, f2g, _, _, _ = _gather(g, start, entry, GF, GF, False)
         force[g, 0], force[g, 1], force[g, 2] = f0, f1, f2g
         power += f0 * v[g, 0] + f1 * v[g, 1] + f2g * v[g, 2]
         ff = f0 * f0 + f1 * f1 + f2g * f2g
@@ -394,13 +398,6 @@ def fire_range(lo, hi, grains, cell, force, dt, keep, mix, F_build, part):
             v[g, a] = keep * v[g, a] + mix * f + dt * f * im[g]
             w[g, a] = 0.0
         kinetic += 0.5 * (v[g, 0] ** 2 + v[g, 1] ** 2 + v[g, 2] ** 2) / im[g]
-        x0, x1, x2 = x[g, 0], x[g, 1], x[g, 2]
-        x[g, 0] = x0 + dt * (v[g, 0] + L[0, 0] * x0 + L[0, 1] * x1 + L[0, 2] * x2)
-        x[g, 1] = x1 + dt * (v[g, 1] + L[1, 0] * x0 + L[1, 1] * x1 + L[1, 2] * x2)
-        x[g, 2] = x2 + dt * (v[g, 2] + L[2, 0] * x0 + L[2, 1] * x1 + L[2, 2] * x2)
-        d0 = x[g, 0] - (F_build[0, 0] * xb[g, 0] + F_build[0, 1] * xb[g, 1] + F_build[0, 2] * xb[g, 2])
-        d1 = x[g, 1] - (F_build[1, 0] * xb[g, 0] + F_build[1, 1] * xb[g, 1] + F_build[1, 2] * xb[g, 2])
-        d2 = x[g, 2] - (F_build[2, 0] * xb[g, 0] + F_build[2, 1] * xb[g, 1] + F_build[2, 2] * xb[g, 2])
-        largest = max(largest, d0 * d0 + d1 * d1 + d2 * d2)
+        largest = max(largest, _move(g, x, v, L, dt, F_build, xb))
     part[G_KINETIC] += kinetic
     part[G_SHIFT] = max(part[G_SHIFT], math.sqrt(largest))
