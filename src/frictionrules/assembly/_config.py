@@ -58,7 +58,8 @@ def _check_loading(loading: dict, file) -> None:
     from ._loading import check_cell, check_method
     try:
         check_method(loading.get("method", "implicit"))
-        check_cell(loading.get("cell", "rectangular"))
+        if "cell" in loading:
+            check_cell(loading["cell"])
         dem = {k: loading[k] for k in _DEM if k in loading}
         if loading.get("method", "implicit") != "dem":
             if dem:

@@ -167,21 +167,28 @@ def run(assembly: Assembly, state: SampleState, controls, *, rtol: float = 1e-10
     return rows, "completed", False
 
 
-def _controls(kind: str, d: int, pressure: float, axial_strain: float, increments: int,
-              consolidation: int, cell: str = "rectangular") -> tuple[list, list]:
+def _consolidation_controls(d: int, pressure: float, consolidation: int) -> list:
+    """The consolidation's increments: the normal stresses to the pressure in ``consolidation``
+    equal steps, the cell kept rectangular."""
     comps = components(d)
     diag = np.array([a == b for a, b in comps])
-    # consolidation: the normal stresses to the pressure, the cell kept rectangular
-    cons = [Control(tuple(bool(b) for b in diag),
+    return [Control(tuple(bool(b) for b in diag),
                     tuple(np.where(diag, pressure * (k + 1) / consolidation, 0.0)),
                     tuple([0.0] * len(comps))) for k in range(consolidation)]
+
+
+def _shearing_controls(kind: str, d: int, pressure: float, axial_strain: float, increments: int,
+                       cell: str) -> list:
+    """A triaxial test's shearing increments: the axial strain in equal steps, the lateral
+    stresses held at the pressure, the cell's shear as ``cell`` says."""
+    comps = components(d)
+    diag = np.array([a == b for a, b in comps])
     axial = 1 if d == 2 else 2
     free = triaxial_free(kind, d, cell)
     target = np.where(diag, pressure, 0.0)
     step = np.zeros(len(comps))
     step[comps.index((axial, axial))] = axial_strain / increments
-    shear = [Control(tuple(free), tuple(np.where(free, target, 0.0)), tuple(step))] * increments
-    return cons, shear
+    return [Control(tuple(free), tuple(np.where(free, target, 0.0)), tuple(step))] * increments
 
 
 def check_cell(cell: str) -> None:
@@ -314,8 +321,8 @@ def triaxial(assembly: Assembly, kind: str, *, pressure: float, axial_strain: fl
     if max_time is not None:
         check_scalar("max_time", max_time, lo=0.0, lo_open=True)
     consolidation = consolidation_of(assembly, consolidation)
-    cons, shear = _controls(kind, assembly.dim, p, a, int(increments), int(consolidation_increments),
-                            cell)
+    cons = _consolidation_controls(assembly.dim, p, int(consolidation_increments))
+    shear = _shearing_controls(kind, assembly.dim, p, a, int(increments), cell)
     options = dict(kind=kind, cell=cell, pressure=p, axial_strain=a, increments=int(increments),
                    consolidation_increments=int(consolidation_increments), rtol=rtol,
                    max_cuts=int(max_cuts), failure_slope=failure_slope, consolidation=consolidation)
@@ -465,8 +472,7 @@ def load_cell(assembly: Assembly, control: dict, *, pressure: float, increments:
                              record_every=record_every, peak_window=peak_window)
     if not isinstance(increments, (int, np.integer)) or increments < 1:
         raise FrictionRulesError(f"increments = {increments!r} violates: an integer >= 1")
-    cons, _ = _controls("axisymmetric" if d == 3 else "biaxial", d, p, 1.0, 1,
-                        int(consolidation_increments))
+    cons = _consolidation_controls(d, p, int(consolidation_increments))
     shear = [Control(tuple(free), tuple(np.where(free, start + (target - start) * (k + 1) / increments, 0.0)),
                      tuple(np.where(free, 0.0, total / increments))) for k in range(int(increments))]
     consolidation = consolidation_of(assembly, consolidation)
