@@ -84,6 +84,35 @@ def test_frictionless_consolidation_by_fire_ends_in_equilibrium(sample):
     assert _engine.FIRE_DT_MIN * dt <= meters["fire_dt"] <= _engine.FIRE_DT_MAX * dt * (1 + 1e-12)
 
 
+class _Phases:
+    """A progress callback that keeps the texts of the preparation's phases."""
+
+    def __init__(self):
+        self.texts = []
+
+    def __call__(self, done, total):
+        pass
+
+    def phase(self, text):
+        self.texts.append(text)
+
+
+def test_frictionless_consolidation_settles_at_its_preload_first(sample):
+    """A frictionless consolidation approaches the pressure from above: it settles at PRELOAD
+    times the pressure (its stress reported against that target), then at the pressure."""
+    from frictionrules.assembly._dem._protocol import PRELOAD
+    progress = _Phases()
+    r = _run(sample, Coulomb(0.5), strain=0.001, record_every=0.001, progress=progress)
+    texts = progress.texts
+    pre = [k for k, t in enumerate(texts) if t.startswith("consolidation (frictionless, preload)")]
+    final = [k for k, t in enumerate(texts) if t.startswith("consolidation (frictionless):")]
+    assert PRELOAD > 1 and pre and final and pre[-1] < final[0]
+    ratio = float(texts[pre[-1]].split("p/p* = ")[1].split(",")[0])
+    assert abs(ratio - 1.0) <= 1e-3 + 1e-4  # settled at the preload (printed to 4 digits)
+    assert r.engine.meters[0]["preloaded"] == 1
+    np.testing.assert_allclose(np.diag(r.stress[0]), 1.0, atol=1e-3 + 1e-12)
+
+
 def test_records_and_energy_balance(sample):
     """Boundary work = the laws' dissipation + elastic + kinetic energy + damping loss, to 1 %
     of the boundary work; a record every 0.1 % of Hencky strain (at the first step past it:

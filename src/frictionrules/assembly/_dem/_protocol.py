@@ -17,6 +17,17 @@ below ``UNBALANCED_TOL``: "frictionless" with ``Coulomb(0)`` at
 every contact, after which the laws take over with virgin tangential histories; "stress" with
 the laws from the start. A consolidation that does not settle within ``CONSOLIDATION_STEPS``
 is an error.
+
+A frictionless consolidation approaches its pressure from above: it settles first at
+``PRELOAD`` times the pressure (to ``PRELOAD`` times the unbalanced-force tolerance), then at
+the pressure. Compressed from below, a frictionless packing near jamming creeps: its
+contacts carry the pressure by a fragile network that gives way again and again as the cell
+closes, and the relaxation slows down as the overlaps vanish (critical slowing down at the
+jamming point); unloaded from a well-connected state, it keeps its network and settles
+quickly, as in the compress-then-decompress protocol of O'Hern, Silbert, Liu & Nagel (2003,
+PRE 68 011306). (Measured on ``Assembly.random`` packings of 2,000 spheres, seeds 1–3, to
+p = 1 with kn = 1e4: 147k, 165k, 162k steps from below; 37k, 25k, 21k from 10 p, the solid
+fractions within 0.0004 of those from below; 10,000 spheres: 268k steps against 97k.)
 """
 
 from __future__ import annotations
@@ -38,7 +49,7 @@ from ._records import read_record
 from ._state import Control
 
 __all__ = ["StageSpec", "run_test", "SERVO_RATE", "CONSOLIDATION_RATE", "STRESS_TOL",
-           "UNBALANCED_TOL", "CONSOLIDATION_STEPS"]
+           "UNBALANCED_TOL", "CONSOLIDATION_STEPS", "PRELOAD"]
 
 #: The servo's largest strain rate during a loading stage, in units of the test's rate ε̇.
 SERVO_RATE = 10.0
@@ -48,6 +59,9 @@ CONSOLIDATION_RATE = 10.0
 STRESS_TOL = 1e-3
 #: ... with the unbalanced-force ratio below this.
 UNBALANCED_TOL = 1e-4
+#: A frictionless consolidation settles first at this multiple of its pressure (module
+#: docstring), to this multiple of its unbalanced-force tolerance.
+PRELOAD = 10.0
 #: A consolidation that has not settled after this many steps is an error.
 CONSOLIDATION_STEPS = 5_000_000
 #: Steps between two looks at the clock (progress, max_time), at first.
@@ -129,15 +143,28 @@ def consolidate(dyn: Dynamics, state, pressure: float, rate: float, frictionless
                 progress=None, deadline=None, clock=None, unbalanced_tol: float = UNBALANCED_TOL,
                 name: str = "consolidation"):
     """Consolidation (module docstring): the normal stresses driven to ``pressure``, the cell's
-    shear strains held (a rectangular cell).
+    shear strains held (a rectangular cell); frictionless, by way of ``PRELOAD`` times it.
     Returns ``(state, done)``; ``done`` False where the deadline came first."""
+    clock = clock or _Clock()
+    m = state.meters[0]
+    if frictionless and not m["preloaded"]:
+        state, done = _settle(dyn, state, PRELOAD * pressure, rate, True, progress, deadline,
+                              clock, PRELOAD * unbalanced_tol, f"{name} (frictionless, preload)")
+        if not done:
+            return state, False
+        state.meters[0]["preloaded"] = 1
+    return _settle(dyn, state, pressure, rate, frictionless, progress, deadline, clock,
+                   unbalanced_tol, f"{name}{' (frictionless)' if frictionless else ''}")
+
+
+def _settle(dyn, state, pressure, rate, frictionless, progress, deadline, clock, unbalanced_tol,
+            name):
     d = dyn.dim
     comps = components(d)
     diag = np.array([a == b for a, b in comps])
     target = np.where(diag, pressure, 0.0)
     control = _control(diag, target, target, np.zeros(len(comps)), 0.0,
                        CONSOLIDATION_RATE * rate, pressure, True, d, unbalanced_tol)
-    clock = clock or _Clock()
     start = int(state.meters[0]["steps"])
     while True:
         state, outcome, _ = clock.run(dyn, state, control, math.inf, frictionless)
@@ -145,16 +172,15 @@ def consolidate(dyn: Dynamics, state, pressure: float, rate: float, frictionless
         mean = np.trace(state.stress[:d, :d]) / d
         balance = (f"unbalanced force {m['unbalanced']:.2e}" if math.isfinite(m["unbalanced"])
                    else "no contact yet")
-        _phase(progress, f"{name}{' (frictionless)' if frictionless else ''}: "
-                         f"p/p* = {mean / pressure:.4f}, {balance}")
+        _phase(progress, f"{name}: p/p* = {mean / pressure:.4f}, {balance}")
         if outcome == Outcome.SETTLED:
             return state, True
         if int(m["steps"]) - start > CONSOLIDATION_STEPS:
             raise FrictionRulesError(
-                f"the consolidation to pressure = {pressure!r} did not settle within "
+                f"the {name} to pressure = {pressure!r} did not settle within "
                 f"{CONSOLIDATION_STEPS} steps (mean stress {mean!r}, unbalanced force "
                 f"{float(m['unbalanced']):.3g}); constraint: stress within {STRESS_TOL} of the "
-                f"pressure with an unbalanced-force ratio below {UNBALANCED_TOL}")
+                f"pressure with an unbalanced-force ratio below {unbalanced_tol}")
         if deadline is not None and time.monotonic() > deadline:
             return state, False
 

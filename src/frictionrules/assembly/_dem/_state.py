@@ -148,12 +148,14 @@ class Control(NamedTuple):
 #: since the start of the stage (boundary work, the laws' dissipation, the damping's loss) and
 #: the kinetic energy at the last half step; the unbalanced-force ratio, force-carrying and
 #: sliding contacts, the largest overlap over the smaller radius; the first pair whose update
-#: failed (-1: none); FIRE's step, mixing and count of steps downhill (0: not started).
+#: failed (-1: none); FIRE's step, mixing and count of steps downhill (0: not started); 1 once
+#: a frictionless consolidation has settled at its preload (:mod:`._protocol`).
 METERS = np.dtype([("time", "f8"), ("steps", "i8"), ("stage_time", "f8"), ("boundary_work", "f8"),
                    ("dissipation", "f8"), ("damping_loss", "f8"), ("kinetic", "f8"),
                    ("unbalanced", "f8"), ("closed", "i8"), ("sliding", "i8"),
                    ("max_overlap", "f8"), ("failed_pair", "i8"), ("max_shift", "f8"),
-                   ("fire_dt", "f8"), ("fire_alpha", "f8"), ("fire_npos", "i8")])
+                   ("fire_dt", "f8"), ("fire_alpha", "f8"), ("fire_npos", "i8"),
+                   ("preloaded", "i8")])
 
 
 def new_meters() -> np.ndarray:
