@@ -159,6 +159,8 @@ def consolidate(dyn: Dynamics, state, pressure: float, rate: float, frictionless
 
 def _settle(dyn, state, pressure, rate, frictionless, progress, deadline, clock, unbalanced_tol,
             name):
+    """The normal stresses driven to ``pressure`` until they hold with the forces balanced to
+    ``unbalanced_tol`` (the stage reported as ``name``). Returns ``(state, done)``."""
     d = dyn.dim
     comps = components(d)
     diag = np.array([a == b for a, b in comps])
