@@ -175,8 +175,8 @@ _PARALLEL = {"prange": True, "numpy": False, "setitem": False, "reduction": Fals
 #: its growth and its cut, the mixing's start and decay, the largest and the smallest step
 #: (times the engine's ``dt``). The largest, ``0.5 √(m_min / k_max)``, is within the stability
 #: limit of the lightest grain with its usual contacts, and a step that goes unstable turns
-#: uphill and is cut. (2,000 spheres to p = 1 with kn = 1e4, seeds 1–3: 40k, 34k, 63k steps
-#: at 1.5; 37k, 25k, 21k at 2; 31k, 26k, 54k at 2.5.)
+#: uphill and is cut. (2,000 spheres consolidated by way of 10 p to p = 1 with kn = 1e4, seeds
+#: 1–3: 40k, 34k, 63k steps at 1.5; 37k, 25k, 21k at 2; 31k, 26k, 54k at 2.5.)
 FIRE_DELAY, FIRE_GROW, FIRE_CUT, FIRE_ALPHA, FIRE_DECAY, FIRE_DT_MAX, FIRE_DT_MIN = (
     5, 1.1, 0.5, 0.1, 0.99, 2.0, 0.02)
 
