@@ -164,8 +164,7 @@ class Dynamics:
 
     def params(self, frictionless: bool = False) -> Params:
         dt = time_step(float(self.mass.min()), self.k_max)
-        return Params(dt=dt, frictionless=int(frictionless), fire=int(frictionless),
-                      **self._params)
+        return Params(dt=dt, frictionless=int(frictionless), **self._params)
 
     # ---- state -------------------------------------------------------------------------------
     def init(self) -> DemState:

@@ -223,7 +223,7 @@ def _advance(lists, grains, cell, pairs, laws, workspaces, params, control, mete
              scratch, parts, max_steps, stop_time):
     m = meters[0]
     dt, dim = params.dt, params.dim
-    if params.fire and m.fire_dt > 0.0:
+    if params.frictionless and m.fire_dt > 0.0:
         dt = m.fire_dt
     chunk, gchunk, gstart = lists.chunk, lists.grain_chunk, lists.group_start
     nchunk, ngchunk = chunk.shape[0] - 1, gchunk.shape[0] - 1
@@ -289,7 +289,7 @@ def _advance(lists, grains, cell, pairs, laws, workspaces, params, control, mete
                 H_new[a, b] = acc
         F_build[:, :] = H_new @ Hb_inv
         gpart[:, :] = 0.0
-        if params.fire:
+        if params.frictionless:
             fsum, dt_next = _fire_step(lists, grains, cell, pairs, params, m, dt, force, F_build,
                                        gpart)
         else:
@@ -314,7 +314,7 @@ def _advance(lists, grains, cell, pairs, laws, workspaces, params, control, mete
         m.time += dt
         m.stage_time += dt
         m.steps += 1
-        if params.fire:
+        if params.frictionless:
             dt = dt_next
             m.fire_dt = dt
         if not (math.isfinite(kin) and math.isfinite(m.boundary_work)):

@@ -105,8 +105,7 @@ class Params(NamedTuple):
     """Numbers of a run: time step, Cundall's damping coefficient, skin, reference axis of the
     contact frames, dimension, the largest overlap accepted (a fraction of the smaller radius),
     the neighbours' cut-off ``2 r_max + skin``; ``frictionless`` 1 during a frictionless stage
-    (:func:`._passes.contact_range`), ``fire`` 1 where its grains move by FIRE
-    (:mod:`._engine`)."""
+    (:func:`._passes.contact_range`; its grains move by FIRE, :mod:`._engine`)."""
 
     dt: float
     damping: float
@@ -118,7 +117,6 @@ class Params(NamedTuple):
     max_overlap: float
     cutoff: float
     frictionless: int
-    fire: int
 
 
 class Control(NamedTuple):
