@@ -9,7 +9,7 @@ kn = kt = 1e4) is tiled k × k × k times into a periodic cell k times larger (4
 the same packing, repeated), squeezed frictionless towards p = 1 for 2000 steps, then sheared
 at I = 4e-4; the
 CPU and wall time of ``--steps`` steps of the shear on 1 and 2 threads (each in its own
-process: ``NUMBA_NUM_THREADS``), the pairs and contacts, the peak memory; the slope of
+process: ``NUMBA_NUM_THREADS``, Numba's OpenMP layer where it loads), the pairs and contacts, the peak memory; the slope of
 log(time per step) against log(contacts) → ``results/assembly_dem_scaling.md``; the peak
 memory of one run at ``--memory-tiles`` (7: 137,200 grains) → ``results/assembly_dem_memory.md``.
 """
@@ -47,6 +47,8 @@ def _sample(k: int):
 
 def _child(k: int, steps: int) -> dict:
     """One measurement (in a process of its own)."""
+    from frictionrules._threads import prefer_openmp
+    prefer_openmp()
     from frictionrules.assembly._dem import _protocol as P
     from frictionrules.assembly._dem._dynamics import Dynamics
     a = _sample(k)

@@ -35,10 +35,12 @@ def register(sub) -> None:
 
 def run(args) -> int:
     from .._output import FIGURE_SUFFIXES, check_folder, check_output
+    from .._threads import prefer_openmp
     from ..assembly import read_config, triaxial
     from ..errors import FrictionRulesError
     from . import _common
 
+    prefer_openmp()  # this process runs the engine and does not fork
     out = check_output(args.out, (".h5", ".hdf5"))
     figure = check_output(args.figure, FIGURE_SUFFIXES, name="--figure") if args.figure else None
     vtk = check_folder(args.vtk, name="--vtk") if args.vtk else None
