@@ -34,13 +34,13 @@ def main() -> None:
 
     import numba
     import numpy as np
+    from _dem_compare import Run, statistics
+    from _table import write_table
 
     import frictionrules as fr
-    from _dem_compare import Run, statistics
     from frictionrules._threads import prefer_openmp
 
     prefer_openmp()  # a process of its own that does not fork
-    from _table import write_table
 
     progress = None
     if sys.stderr.isatty():
