@@ -7,9 +7,9 @@ One command: ``python benchmarks/assembly_dem_large.py [--grains 10000] [--threa
 μ = 0.3, kn = kt = 1e4 at p = 1), then ``triaxial(..., method="dem")`` consolidates them
 frictionless and compresses them axisymmetrically at I = 4e-4 (damping 0.2) to ``--strain``
 axial (Hencky) strain on ``--threads`` threads (``NUMBA_NUM_THREADS``; Numba's OpenMP layer
-where it loads, as the ``assembly`` command: ``frictionrules._threads.prefer_openmp``). The wall time of the
-packing and of the run, the steps, the time per step, the peak and end friction angles (the
-statistics of ``benchmarks/assembly_yade.py``) and the energy balance →
+where it loads, as in the ``assembly`` command: ``frictionrules._threads.prefer_openmp``). The
+wall time of the packing and of the run, the steps, the time per step, the peak and end
+friction angles (the statistics of ``benchmarks/assembly_yade.py``) and the energy balance →
 ``results/assembly_dem_large.md``. Progress on a terminal.
 """
 
@@ -71,8 +71,9 @@ def main() -> None:
                 ["grains", "solid fraction", "packing s", "run s (consolidation + shear)",
                  "total min", "steps", "µs/step", "peak φ (°)", "end φ (°)", "ε_v", "Z",
                  "energy balance error (% of boundary work)", "reached %"], [row],
-                notes=f"{args.threads} thread(s), Numba's {numba.threading_layer()} layer; Coulomb μ = 0.3, kn = kt = 1e4, p = 1, I = 4e-4, "
-                      "damping 0.2, a record every 0.1 %; the first packing's compilation "
+                notes=f"{args.threads} thread(s), Numba's {numba.threading_layer()} layer; "
+                      "Coulomb μ = 0.3, kn = kt = 1e4, p = 1, I = 4e-4, damping 0.2, a record "
+                      "every 0.1 %; the first packing's compilation "
                       "excluded (a 40-grain packing before), the run's own included. Load "
                       f"{os.getloadavg()[0]:.1f} at the end.")
     print(r.message)

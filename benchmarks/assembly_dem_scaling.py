@@ -7,11 +7,11 @@ One command: ``python benchmarks/assembly_dem_scaling.py [--tiles 1,2,3,4,5] [--
 A random packing of 400 spheres (radii 1 ± 20 %, ``Assembly.random``, seed 1; Coulomb μ = 0.3,
 kn = kt = 1e4) is tiled k × k × k times into a periodic cell k times larger (400 k³ grains:
 the same packing, repeated), squeezed frictionless towards p = 1 for 2000 steps, then sheared
-at I = 4e-4; the
-CPU and wall time of ``--steps`` steps of the shear on 1 and 2 threads (each in its own
-process: ``NUMBA_NUM_THREADS``, Numba's OpenMP layer where it loads), the pairs and contacts, the peak memory; the slope of
-log(time per step) against log(contacts) → ``results/assembly_dem_scaling.md``; the peak
-memory of one run at ``--memory-tiles`` (7: 137,200 grains) → ``results/assembly_dem_memory.md``.
+at I = 4e-4; the CPU and wall time of ``--steps`` steps of the shear on 1 and 2 threads (each
+in its own process: ``NUMBA_NUM_THREADS``, Numba's OpenMP layer where it loads), the pairs
+and contacts, the peak memory; the slope of log(time per step) against log(contacts) →
+``results/assembly_dem_scaling.md``; the peak memory of one run at ``--memory-tiles`` (7:
+137,200 grains) → ``results/assembly_dem_memory.md``.
 """
 
 from __future__ import annotations
