@@ -113,6 +113,21 @@ def test_frictionless_consolidation_settles_at_its_preload_first(sample):
     np.testing.assert_allclose(np.diag(r.stress[0]), 1.0, atol=1e-3 + 1e-12)
 
 
+def test_records_take_their_frames_from_the_normals(sample):
+    """A frictionless stage computes no contact frames (its contacts carry no tangential
+    force); the records' frames, the first one after it included, are the contact rule's
+    (:func:`frictionrules.assembly._contacts.frames`): orthonormal, t1 along the reference
+    axis projected on the contact plane."""
+    from frictionrules.assembly._contacts import frames
+    r = _run(sample, Coulomb(0.5), strain=0.001, record_every=0.001)
+    for snap in (r.contacts[0], r.contacts[-1]):
+        F = snap.frame
+        assert len(F) > 100
+        np.testing.assert_allclose(np.einsum("kij,klj->kil", F, F),
+                                   np.broadcast_to(np.eye(3), F.shape), atol=1e-12)
+        np.testing.assert_allclose(F, frames(F[:, 2], sample.reference_axis), atol=1e-12)
+
+
 def test_records_and_energy_balance(sample):
     """Boundary work = the laws' dissipation + elastic + kinetic energy + damping loss, to 1 %
     of the boundary work; a record every 0.1 % of Hencky strain (at the first step past it:

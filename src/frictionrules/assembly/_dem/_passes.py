@@ -15,10 +15,16 @@ the reference axis on the contact plane, ``t2 = n × t1`` as :func:`..._contacts
   ``Δδt = dt Q_t (v'_j - v'_i + L l - (r_i ω_i + r_j ω_j) × n)``, ``Δδn = gap - gap_old``
   (the normal displacement follows the geometry: no drift of N);
 * the law's compiled update (:func:`frictionrules.contact.contact_update`) gives the force
-  ``(T1, T2, N)``. During a frictionless stage the law is ``Coulomb(0)``, whose return takes
-  any tangential trial force to zero: the contact gets no tangential increment (its tangential
-  displacement stays zero), the same result without the return at the degenerate cone's axis; the force of ``j`` on ``i`` is ``g = T1 t1 + T2 t2 - N n`` and the moment on
-  either grain its radius times ``n × g``.
+  ``(T1, T2, N)``; the force of ``j`` on ``i`` is ``g = T1 t1 + T2 t2 - N n`` and the moment
+  on either grain its radius times ``n × g``.
+
+During a frictionless stage the law is ``Coulomb(0)``, whose return takes any tangential trial
+force to zero: the contact keeps its tangential history (zero from its first touch) and gets
+the normal response alone, ``g = -N n``, the same result without the return at the degenerate
+cone's axis, without the frame and without the tangential kinematics (4,000 spheres
+consolidated in 48k steps: 58 s -> 28 s on 2 threads). Its stored frame goes stale: the laws' stage starts every tangential history at zero
+(:meth:`._dynamics.Dynamics.bring_in_laws`), which a stale frame carries as zero, and records
+take their frames from the normals (:func:`frame_t1`).
 
 Each chunk of pairs adds to its row of partial sums (named columns ``P_*``): the virial, the
 laws' dissipation, ``Σ|g|`` and the counts of force-carrying and sliding contacts, the largest
@@ -37,13 +43,14 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 from numba import njit
 
 from ...contact import contact_update
 from ...contact.layout import LAW_KN, LAW_KT, RES_DISSIPATION, RES_FORCE, RES_SLIP
 from ._state import ELASTIC, OPEN, PLASTIC
 
-__all__ = ["contact_range", "grain_range", "P_VIRIAL", "P_DISSIPATION", "P_FORCE", "P_CLOSED",
+__all__ = ["contact_range", "grain_range", "frame_t1", "P_VIRIAL", "P_DISSIPATION", "P_FORCE", "P_CLOSED",
            "P_SLIDING", "P_OVERLAP", "P_STIFF", "P_FAILED", "P_SIZE", "G_FORCE", "G_KINETIC",
            "G_DAMPING", "G_SHIFT", "G_SIZE", "MAX_DEPTH", "gather_range", "fire_range", "F_POWER",
            "F_FORCE2", "F_SPEED2", "F_FORCE"]
@@ -87,6 +94,18 @@ def _frame(nx, ny, nz, ax, ay, az):
         q = 1.0 - an * an
     inv = 1.0 / math.sqrt(q)
     return (ax - an * nx) * inv, (ay - an * ny) * inv, (az - an * nz) * inv
+
+
+@njit(cache=True, error_model="numpy", fastmath=_FMA)
+def frame_t1(normal, ax, ay, az):
+    """The frame vector ``t1`` (m, 3) of the contacts of unit normals ``normal`` (m, 3): the
+    rule of the contact pass (:func:`_frame`), for the records whatever the stage (a
+    frictionless stage does not keep its frames)."""
+    m = normal.shape[0]
+    t1 = np.empty((m, 3))
+    for k in range(m):
+        t1[k, 0], t1[k, 1], t1[k, 2] = _frame(normal[k, 0], normal[k, 1], normal[k, 2], ax, ay, az)
+    return t1
 
 
 @njit(inline="always", error_model="numpy", fastmath=_FMA)
@@ -164,49 +183,61 @@ def contact_range(lo, hi, fn, row, virgin, ws, lists, grains, cell, pairs, param
             continue
         inv = 1.0 / dist
         nx, ny, nz = lx * inv, ly * inv, lz * inv
-        t1x, t1y, t1z = _frame(nx, ny, nz, ax, ay, az)
-        t2x, t2y, t2z = ny * t1z - nz * t1y, nz * t1x - nx * t1z, nx * t1y - ny * t1x
-        if fresh:
-            ACT[c] = 1
-            SLIP[c] = 0.0
-            for a in range(W):
-                s[a] = virgin[a]
-            du[0] = 0.0
-            du[1] = 0.0
-            du[2] = gap
-        else:
-            n0x, n0y, n0z = NRM[c, 0], NRM[c, 1], NRM[c, 2]
-            a0, a1, a2 = T1[c, 0], T1[c, 1], T1[c, 2]
-            b0, b1, b2 = n0y * a2 - n0z * a1, n0z * a0 - n0x * a2, n0x * a1 - n0y * a0
-            m0, m1, m2 = n0x + nx, n0y + ny, n0z + nz
-            kk = 1.0 / (1.0 + n0x * nx + n0y * ny + n0z * nz)
-            # the twist: an exact rotation by 2 atan(h), h = tan(θ/2) to O(θ⁵)
-            h = 0.25 * dt * ((w[i, 0] + w[j, 0]) * nx + (w[i, 1] + w[j, 1]) * ny
-                             + (w[i, 2] + w[j, 2]) * nz)
-            h += h * h * h / 3.0
-            h2 = 1.0 / (1.0 + h * h)
-            ct, st = (1.0 - h * h) * h2, 2.0 * h * h2
-            row_c = S[c]
-            s[0], s[1] = _carry(row_c[0], row_c[1], a0, a1, a2, b0, b1, b2, m0, m1, m2, kk,
-                                nx, ny, nz, t1x, t1y, t1z, t2x, t2y, t2z, ct, st)
-            s[3], s[4] = _carry(row_c[3], row_c[4], a0, a1, a2, b0, b1, b2, m0, m1, m2, kk,
-                                nx, ny, nz, t1x, t1y, t1z, t2x, t2y, t2z, ct, st)
-            s[2] = row_c[2]
-            for a in range(5, W):
-                s[a] = row_c[a]
-            # relative velocity of j's contact point to i's
-            ox = ri * w[i, 0] + rj * w[j, 0]
-            oy = ri * w[i, 1] + rj * w[j, 1]
-            oz = ri * w[i, 2] + rj * w[j, 2]
-            ux = v[j, 0] - v[i, 0] + L[0, 0] * lx + L[0, 1] * ly + L[0, 2] * lz - (oy * nz - oz * ny)
-            uy = v[j, 1] - v[i, 1] + L[1, 0] * lx + L[1, 1] * ly + L[1, 2] * lz - (oz * nx - ox * nz)
-            uz = v[j, 2] - v[i, 2] + L[2, 0] * lx + L[2, 1] * ly + L[2, 2] * lz - (ox * ny - oy * nx)
-            du[0] = dt * (ux * t1x + uy * t1y + uz * t1z)
-            du[1] = dt * (ux * t2x + uy * t2y + uz * t2z)
-            du[2] = gap - GAP[c]
         if frictionless:
-            status, failed = _normal_only(kn, s, du[2], S[c], res, W), False
+            # the normal response alone: no frame and no tangential kinematics (the stored frame
+            # goes stale: the laws' stage starts every tangential history at zero, and a record
+            # takes its frames from the normals)
+            t1x = t1y = t1z = t2x = t2y = t2z = 0.0
+            if fresh:
+                ACT[c] = 1
+                SLIP[c] = 0.0
+                for a in range(W):
+                    s[a] = virgin[a]
+                status = _normal_only(kn, s, gap, S[c], res, W)
+            else:
+                status = _normal_only(kn, S[c], gap - GAP[c], S[c], res, W)
+            failed = False
         else:
+            t1x, t1y, t1z = _frame(nx, ny, nz, ax, ay, az)
+            t2x, t2y, t2z = ny * t1z - nz * t1y, nz * t1x - nx * t1z, nx * t1y - ny * t1x
+            if fresh:
+                ACT[c] = 1
+                SLIP[c] = 0.0
+                for a in range(W):
+                    s[a] = virgin[a]
+                du[0] = 0.0
+                du[1] = 0.0
+                du[2] = gap
+            else:
+                n0x, n0y, n0z = NRM[c, 0], NRM[c, 1], NRM[c, 2]
+                a0, a1, a2 = T1[c, 0], T1[c, 1], T1[c, 2]
+                b0, b1, b2 = n0y * a2 - n0z * a1, n0z * a0 - n0x * a2, n0x * a1 - n0y * a0
+                m0, m1, m2 = n0x + nx, n0y + ny, n0z + nz
+                kk = 1.0 / (1.0 + n0x * nx + n0y * ny + n0z * nz)
+                # the twist: an exact rotation by 2 atan(h), h = tan(θ/2) to O(θ⁵)
+                h = 0.25 * dt * ((w[i, 0] + w[j, 0]) * nx + (w[i, 1] + w[j, 1]) * ny
+                                 + (w[i, 2] + w[j, 2]) * nz)
+                h += h * h * h / 3.0
+                h2 = 1.0 / (1.0 + h * h)
+                ct, st = (1.0 - h * h) * h2, 2.0 * h * h2
+                row_c = S[c]
+                s[0], s[1] = _carry(row_c[0], row_c[1], a0, a1, a2, b0, b1, b2, m0, m1, m2, kk,
+                                    nx, ny, nz, t1x, t1y, t1z, t2x, t2y, t2z, ct, st)
+                s[3], s[4] = _carry(row_c[3], row_c[4], a0, a1, a2, b0, b1, b2, m0, m1, m2, kk,
+                                    nx, ny, nz, t1x, t1y, t1z, t2x, t2y, t2z, ct, st)
+                s[2] = row_c[2]
+                for a in range(5, W):
+                    s[a] = row_c[a]
+                # relative velocity of j's contact point to i's
+                ox = ri * w[i, 0] + rj * w[j, 0]
+                oy = ri * w[i, 1] + rj * w[j, 1]
+                oz = ri * w[i, 2] + rj * w[j, 2]
+                ux = v[j, 0] - v[i, 0] + L[0, 0] * lx + L[0, 1] * ly + L[0, 2] * lz - (oy * nz - oz * ny)
+                uy = v[j, 1] - v[i, 1] + L[1, 0] * lx + L[1, 1] * ly + L[1, 2] * lz - (oz * nx - ox * nz)
+                uz = v[j, 2] - v[i, 2] + L[2, 0] * lx + L[2, 1] * ly + L[2, 2] * lz - (ox * ny - oy * nx)
+                du[0] = dt * (ux * t1x + uy * t1y + uz * t1z)
+                du[1] = dt * (ux * t2x + uy * t2y + uz * t2z)
+                du[2] = gap - GAP[c]
             status, failed = contact_update(fn, row, s, du, S[c], res, ws, MAX_DEPTH, False, tan)
         if failed and (bad < 0 or c < bad):
             bad = c
@@ -218,7 +249,8 @@ def contact_range(lo, hi, fn, row, virgin, ws, lists, grains, cell, pairs, param
         GF[c, 0], GF[c, 1], GF[c, 2] = gx, gy, gz
         TQ[c, 0], TQ[c, 1], TQ[c, 2] = ny * gz - nz * gy, nz * gx - nx * gz, nx * gy - ny * gx
         NRM[c, 0], NRM[c, 1], NRM[c, 2] = nx, ny, nz
-        T1[c, 0], T1[c, 1], T1[c, 2] = t1x, t1y, t1z
+        if not frictionless:
+            T1[c, 0], T1[c, 1], T1[c, 2] = t1x, t1y, t1z
         GAP[c] = gap
         ST[c] = status
         SLIP[c] += res[RES_SLIP]

@@ -25,6 +25,7 @@ import numpy as np
 
 from ...contact.layout import LAW_KN, LAW_KT
 from .._results import ContactSnapshot
+from ._passes import frame_t1
 from ._state import DemState
 
 __all__ = ["Record", "read_record", "hencky"]
@@ -71,6 +72,7 @@ def read_record(dyn, state: DemState, laws) -> Record:
     m = state.meters[0]
     n = state.size
     members = np.flatnonzero(p.active)
+    normal = p.normal[members]
     force = p.force[members]
     carrying = force[:, 2] > 0
     nc = int(np.count_nonzero(carrying))
@@ -83,7 +85,8 @@ def read_record(dyn, state: DemState, laws) -> Record:
     elastic = 0.5 * float(np.sum((closed[:, 0]**2 + closed[:, 1]**2) / rows[:, LAW_KT]
                                  + closed[:, 2]**2 / rows[:, LAW_KN]))
     snap = ContactSnapshot(np.stack((p.i[members], p.j[members]), axis=1), p.shift[members, :d].copy(),
-                           frames_of(p.normal[members], p.t1[members]), force.copy(),
+                           frames_of(normal, frame_t1(normal, *map(float, dyn.assembly.reference_axis))),
+                           force.copy(),
                            p.state[members, 3:6].copy(), p.status[members].astype(np.int64),
                            dyn.states_of(state, members), p.group[members].copy())
     H = state.cell.H
