@@ -43,7 +43,8 @@ PREPARATION_KAPPA = 1e3
 #: (Measured on spheres r(1 ± 0.2): κ = 1e4 with a ratio of 1e-3 took 23 s for 400 grains and
 #: 236 s for 1000, these 4.6 s and 8.7 s by damped dynamics: near jamming the servo's every
 #: move of the cell stirs the packing again; by FIRE 2000 grains take 10–14 s against 26 s,
-#: and 3.4–4.9 s approached from above as every frictionless consolidation is.)
+#: 3.4–4.9 s approached from above as every frictionless consolidation is, and 2.2–3.0 s with
+#: the normal response alone at its contacts.)
 PREPARATION_UNBALANCED = 1e-2
 #: Solid fraction of random close packing of equal grains (disks, spheres): the densest a
 #: random packing gets, so the smallest its cell can be.
