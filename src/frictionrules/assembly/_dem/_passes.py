@@ -22,9 +22,10 @@ During a frictionless stage the law is ``Coulomb(0)``, whose return takes any ta
 force to zero: the contact keeps its tangential history (zero from its first touch) and gets
 the normal response alone, ``g = -N n``, the same result without the return at the degenerate
 cone's axis, without the frame and without the tangential kinematics (4,000 spheres
-consolidated in 48k steps: 58 s -> 28 s on 2 threads). Its stored frame goes stale: the laws' stage starts every tangential history at zero
-(:meth:`._dynamics.Dynamics.bring_in_laws`), which a stale frame carries as zero, and records
-take their frames from the normals (:func:`frame_t1`).
+consolidated in 48k steps: 58 s -> 28 s on 2 threads). Its stored frame goes stale: the laws'
+stage starts every tangential history at zero (:meth:`._dynamics.Dynamics.bring_in_laws`),
+which a stale frame carries as zero, and records take their frames from the normals
+(:func:`frame_t1`).
 
 Each chunk of pairs adds to its row of partial sums (named columns ``P_*``): the virial, the
 laws' dissipation, ``Σ|g|`` and the counts of force-carrying and sliding contacts, the largest

@@ -84,9 +84,9 @@ def read_record(dyn, state: DemState, laws) -> Record:
     closed = np.where(carrying[:, None], force, 0.0)
     elastic = 0.5 * float(np.sum((closed[:, 0]**2 + closed[:, 1]**2) / rows[:, LAW_KT]
                                  + closed[:, 2]**2 / rows[:, LAW_KN]))
+    t1 = frame_t1(normal, *map(float, dyn.assembly.reference_axis))
     snap = ContactSnapshot(np.stack((p.i[members], p.j[members]), axis=1), p.shift[members, :d].copy(),
-                           frames_of(normal, frame_t1(normal, *map(float, dyn.assembly.reference_axis))),
-                           force.copy(),
+                           frames_of(normal, t1), force.copy(),
                            p.state[members, 3:6].copy(), p.status[members].astype(np.int64),
                            dyn.states_of(state, members), p.group[members].copy())
     H = state.cell.H
