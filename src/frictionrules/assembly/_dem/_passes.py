@@ -51,8 +51,8 @@ from ...contact import contact_update
 from ...contact.layout import LAW_KN, LAW_KT, RES_DISSIPATION, RES_FORCE, RES_SLIP
 from ._state import ELASTIC, OPEN, PLASTIC
 
-__all__ = ["contact_range", "grain_range", "frame_t1", "P_VIRIAL", "P_DISSIPATION", "P_FORCE", "P_CLOSED",
-           "P_SLIDING", "P_OVERLAP", "P_STIFF", "P_FAILED", "P_SIZE", "G_FORCE", "G_KINETIC",
+__all__ = ["contact_range", "grain_range", "frame_t1", "P_VIRIAL", "P_DISSIPATION", "P_FORCE",
+           "P_CLOSED", "P_SLIDING", "P_OVERLAP", "P_STIFF", "P_FAILED", "P_SIZE", "G_FORCE", "G_KINETIC",
            "G_DAMPING", "G_SHIFT", "G_SIZE", "MAX_DEPTH", "gather_range", "fire_range", "F_POWER",
            "F_FORCE2", "F_SPEED2", "F_FORCE"]
 
@@ -184,16 +184,17 @@ def contact_range(lo, hi, fn, row, virgin, ws, lists, grains, cell, pairs, param
             continue
         inv = 1.0 / dist
         nx, ny, nz = lx * inv, ly * inv, lz * inv
+        if fresh:
+            ACT[c] = 1
+            SLIP[c] = 0.0
+            for a in range(W):
+                s[a] = virgin[a]
         if frictionless:
             # the normal response alone: no frame and no tangential kinematics (the stored frame
             # goes stale: the laws' stage starts every tangential history at zero, and a record
             # takes its frames from the normals)
             t1x = t1y = t1z = t2x = t2y = t2z = 0.0
             if fresh:
-                ACT[c] = 1
-                SLIP[c] = 0.0
-                for a in range(W):
-                    s[a] = virgin[a]
                 status = _normal_only(kn, s, gap, S[c], res, W)
             else:
                 status = _normal_only(kn, S[c], gap - GAP[c], S[c], res, W)
@@ -202,10 +203,6 @@ def contact_range(lo, hi, fn, row, virgin, ws, lists, grains, cell, pairs, param
             t1x, t1y, t1z = _frame(nx, ny, nz, ax, ay, az)
             t2x, t2y, t2z = ny * t1z - nz * t1y, nz * t1x - nx * t1z, nx * t1y - ny * t1x
             if fresh:
-                ACT[c] = 1
-                SLIP[c] = 0.0
-                for a in range(W):
-                    s[a] = virgin[a]
                 du[0] = 0.0
                 du[1] = 0.0
                 du[2] = gap
