@@ -18,7 +18,8 @@ def prefer_openmp() -> None:
     workqueue's go to sleep, and waking a virtual CPU costs about 0.1 ms each time. Measured on
     a 2-vCPU virtual machine (10,800 spheres in shear, 2 threads, 2,000 steps, three runs per
     layer): OpenMP 1.58–1.74 ms per step, TBB 1.85–2.19 ms, the workqueue 2.14 ms; 10,000
-    spheres to 25 % axial strain: 13.9 min against 14.6 min under TBB. Numba's
+    spheres to 25 % axial strain: 12.6 min against 12.8 min under TBB (13.9 against 14.6
+    while frictionless stages still computed their tangential kinematics). Numba's
     default order puts TBB first wherever ``libtbb`` is installed. The numbers of a run do not
     depend on the layer (the engine's chunks are fixed by the sizes alone).
 
