@@ -52,9 +52,9 @@ from ...contact.layout import LAW_KN, LAW_KT, RES_DISSIPATION, RES_FORCE, RES_SL
 from ._state import ELASTIC, OPEN, PLASTIC
 
 __all__ = ["contact_range", "grain_range", "frame_t1", "P_VIRIAL", "P_DISSIPATION", "P_FORCE",
-           "P_CLOSED", "P_SLIDING", "P_OVERLAP", "P_STIFF", "P_FAILED", "P_SIZE", "G_FORCE", "G_KINETIC",
-           "G_DAMPING", "G_SHIFT", "G_SIZE", "MAX_DEPTH", "gather_range", "fire_range", "F_POWER",
-           "F_FORCE2", "F_SPEED2", "F_FORCE"]
+           "P_CLOSED", "P_SLIDING", "P_OVERLAP", "P_STIFF", "P_FAILED", "P_SIZE", "G_FORCE",
+           "G_KINETIC", "G_DAMPING", "G_SHIFT", "G_SIZE", "MAX_DEPTH", "gather_range",
+           "fire_range", "F_POWER", "F_FORCE2", "F_SPEED2", "F_FORCE"]
 
 #: The passes' one relaxation of IEEE arithmetic: a product and a sum may be fused into one
 #: multiply-add (one rounding instead of two). Nothing else (no reassociation, no finite-math
@@ -230,9 +230,12 @@ def contact_range(lo, hi, fn, row, virgin, ws, lists, grains, cell, pairs, param
                 ox = ri * w[i, 0] + rj * w[j, 0]
                 oy = ri * w[i, 1] + rj * w[j, 1]
                 oz = ri * w[i, 2] + rj * w[j, 2]
-                ux = v[j, 0] - v[i, 0] + L[0, 0] * lx + L[0, 1] * ly + L[0, 2] * lz - (oy * nz - oz * ny)
-                uy = v[j, 1] - v[i, 1] + L[1, 0] * lx + L[1, 1] * ly + L[1, 2] * lz - (oz * nx - ox * nz)
-                uz = v[j, 2] - v[i, 2] + L[2, 0] * lx + L[2, 1] * ly + L[2, 2] * lz - (ox * ny - oy * nx)
+                ux = (v[j, 0] - v[i, 0] + L[0, 0] * lx + L[0, 1] * ly + L[0, 2] * lz
+                      - (oy * nz - oz * ny))
+                uy = (v[j, 1] - v[i, 1] + L[1, 0] * lx + L[1, 1] * ly + L[1, 2] * lz
+                      - (oz * nx - ox * nz))
+                uz = (v[j, 2] - v[i, 2] + L[2, 0] * lx + L[2, 1] * ly + L[2, 2] * lz
+                      - (ox * ny - oy * nx))
                 du[0] = dt * (ux * t1x + uy * t1y + uz * t1z)
                 du[1] = dt * (ux * t2x + uy * t2y + uz * t2z)
                 du[2] = gap - GAP[c]
