@@ -239,6 +239,32 @@ def test_small_path_agrees_with_the_general_path(method):
     assert small.history.size and small.history[-1] == pytest.approx(small.error, rel=1e-9, abs=1e-300)
 
 
+def test_small_path_keeps_a_history_longer_than_its_buffers():
+    """A small-path run whose history outgrows the buffers allocated per call (one chunk of
+    sweeps) is run again with room for it: the whole history, consistent with the answer,
+    and the reactions of the general path (the same sweeps)."""
+    from frictionrules.multicontact import _small
+    rng = np.random.default_rng(3)
+    nc = 12
+    A = rng.normal(size=(3 * nc, 3 * nc - 6))
+    p = FrictionContactProblem(A @ A.T / (3 * nc) + 1e-9 * np.eye(3 * nc), rng.normal(size=3 * nc),
+                               rng.uniform(0.1, 0.9, nc))
+    s = solve(p, method="nsgs", tol=1e-300, max_iter=2000)
+    general = solve(p, method="nsgs", tol=1e-300, max_iter=2000, time_limit=1e3)
+    assert s.history.size > _small.HISTORY and s.iterations == 2000 and s.reason == "max_iter"
+    assert np.all(np.diff(s.history_iterations) > 0) and s.history_iterations[-1] == s.iterations
+    assert s.history[-1] == s.error
+    np.testing.assert_allclose(s.r, general.r, rtol=0.0, atol=1e-12 * np.abs(general.r).max())
+
+
+def test_small_path_reports_its_wall_time_as_cpu_time():
+    """The small path does not read the thread's CPU clock (a system call of a sixth of a tiny
+    solve): its ``cpu_seconds`` is its wall time."""
+    p, _ = known_active_set(1)
+    s = solve(p, method="nsgs")
+    assert s.cpu_seconds == s.seconds > 0.0
+
+
 def test_solve_many_of_many_small_problems_is_the_loop():
     problems = [known_active_set(k % 3)[0] for k in range(50)]
     records = solve_many(problems, method="auto")

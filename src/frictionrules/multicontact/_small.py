@@ -13,16 +13,17 @@ the polish, then sweeps to the end of its budget and the polish again.
 
 from __future__ import annotations
 
-import functools
 import sys
 import time
 
 import numpy as np
 
 from .._optional import require
+from ..errors import FrictionRulesError, check_finite
 from . import _kernels as K
 from ._frame import UNBOUNDED
 from ._options import PolishOptions
+from .problem import Solution
 
 numba = require("numba", extra="kernels")
 njit = numba.njit
@@ -48,7 +49,8 @@ def _error(indptr, indices, data, q, mu, dil, r, norm_q):
 @njit(cache=True)
 def _polish(indptr, indices, data, q, mu, dil, r, tol, max_iter, norm_q, hist_err, hist_it, nh, offset,
             contraction, patience, max_halvings):
-    """Dense Newton steps on the natural map (see :mod:`._polish`); returns ``(steps, error, nh)``."""
+    """Dense Newton steps on the natural map (see :mod:`._polish`); returns ``(steps, error, nh,
+    hist_err, hist_it)``, the history buffers grown (doubled) when a step finds them full."""
     nc = mu.size
     n = 3 * nc
     Wd = np.zeros((n, n))
@@ -62,7 +64,7 @@ def _polish(indptr, indices, data, q, mu, dil, r, tol, max_iter, norm_q, hist_er
         rho[a] = 1.0 / tr if tr > 0.0 else 1.0
     err, u = _error(indptr, indices, data, q, mu, dil, r, norm_q)
     if max_iter <= 0 or err <= tol:
-        return 0, err, nh
+        return 0, err, nh, hist_err, hist_it
     J = np.empty((n, n))
     slow = 0
     it = 0
@@ -92,12 +94,13 @@ def _polish(indptr, indices, data, q, mu, dil, r, tol, max_iter, norm_q, hist_er
         slow = slow + 1 if en > contraction * err else 0
         r[:] = rn
         u, err = un, en
+        hist_err, hist_it = _grow(hist_err, hist_it, nh, 1)
         hist_err[nh] = err
         hist_it[nh] = offset + it
         nh += 1
         if slow >= patience:
             break
-    return it, err, nh
+    return it, err, nh, hist_err, hist_it
 
 
 #: Sweeps per compiled chunk of the small path (its history buffer).
@@ -141,11 +144,11 @@ def small_solve(indptr, indices, data, q, mu, dil, r, u, h_err, h_it, tol, max_i
 
     Returns ``(iterations, error, bounded, stages, history length, h_err, h_it)``; ``stages``
     is the number of stages run (they alternate from nsgs, or are one polish in mode 1: see
-    :func:`stage_names`); ``bounded`` whether the reactions are within ``r_bound_factor``
+    :data:`STAGE_NAMES`); ``bounded`` whether the reactions are within ``r_bound_factor``
     times |q| over the mean |W_ii|. The error is the last stage's, of ``r`` as returned.
     """
     nc = mu.size
-    norm_q = np.sqrt(np.sum(q * q))
+    norm_q = K.norm2(q)
     D = K.diagonal_blocks(indptr, indices, data, nc)
     nh, done, err = 0, 0, np.inf
     ns = 0
@@ -156,10 +159,10 @@ def small_solve(indptr, indices, data, q, mu, dil, r, u, h_err, h_it, tol, max_i
             it, err, h_err, h_it, nh = _sweeps(indptr, indices, data, D, q, mu, dil, r, tol, budget, norm_q,
                                                h_err, h_it, nh, done)
         else:
-            h_err, h_it = _grow(h_err, h_it, nh, budget)
-            it, err, k = _polish(indptr, indices, data, q, mu, dil, r, tol, budget, norm_q, h_err, h_it, nh,
-                                 done, contraction, patience, max_halvings)
+            it, err, k, h_err, h_it = _polish(indptr, indices, data, q, mu, dil, r, tol, budget, norm_q, h_err,
+                                              h_it, nh, done, contraction, patience, max_halvings)
             if k == nh:                     # no step taken: the error of r as it is
+                h_err, h_it = _grow(h_err, h_it, nh, 1)
                 h_err[nh], h_it[nh], k = err, done, nh + 1
             nh = k
         ns += 1
@@ -183,8 +186,22 @@ def small_solve(indptr, indices, data, q, mu, dil, r, u, h_err, h_it, tol, max_i
                 mean_diag += abs(D[a, l, l])
                 count += 1
     mean_diag = mean_diag / count if count else 1.0
-    bounded = np.sqrt(np.sum(r * r)) <= r_bound_factor * max(norm_q, 1e-300) / mean_diag
+    bounded = K.norm2(r) <= r_bound_factor * max(norm_q, 1e-300) / mean_diag
     return done, err, bounded, ns, nh, h_err, h_it
+
+
+@njit(cache=True)
+def solve_into(indptr, indices, data, q, mu, dil, r, u, h_err, h_it, tol, max_iter, mode, contraction, patience,
+               max_halvings, r_bound_factor):
+    """:func:`small_solve` returning numbers only: ``(iterations, error, bounded, stages, history
+    length)`` (an array returned from compiled code costs 0.27 µs to box, a tenth of a tiny
+    solve). The history is in ``h_err``, ``h_it`` when its length is at most their size; a
+    longer one is lost, and the same call with buffers of at least ``length +`` :data:`CHUNK`
+    entries (and ``r`` as it was) gives the same answer with the whole history."""
+    it, err, bounded, ns, nh, _he, _hi = small_solve(indptr, indices, data, q, mu, dil, r, u, h_err, h_it, tol,
+                                                     max_iter, mode, contraction, patience, max_halvings,
+                                                     r_bound_factor)
+    return it, err, bounded, ns, nh
 
 
 #: History entries allocated per call: one chunk of sweeps fits without a new buffer.
@@ -249,14 +266,53 @@ def small_solve_many(indptr, indices, data, ptr_start, nnz_start, q, mu, dil, co
         out_float[k, 2] = 1e-9 * (_clock_ns(wall_clock) - w0)
 
 
-def buffers(n: int):
-    """``(r, u, h_err, h_it)`` for :func:`small_solve` on ``n`` unknowns, r zero."""
-    return np.zeros(n), np.empty(n), np.empty(HISTORY), np.empty(HISTORY, dtype=np.int64)
+#: ``Solution.method`` of a small-path run, ``STAGE_NAMES[mode][count]`` after ``count`` stages
+#: (at most four; they alternate from nsgs, or are one polish in mode 1).
+STAGE_NAMES = tuple(tuple("polish" if mode == MODES["polish"] else "+".join(STAGES[k % 2] for k in range(count))
+                          for count in range(5)) for mode in range(len(MODES)))
 
 
-@functools.cache
-def stage_names(mode: int, count: int) -> str:
-    """``Solution.method`` of a small-path run: ``count`` stages of ``mode``."""
-    if mode == MODES["polish"]:
-        return "polish"
-    return "+".join(STAGES[k % 2] for k in range(count))
+def reason(method: str, bounded: bool, err: float, tol: float, it: int, max_iter: int) -> str:
+    """:attr:`Solution.reason` of a small-path run."""
+    if not bounded:
+        return "unbounded"
+    if err <= tol:
+        return "converged"
+    return "stalled" if method == "polish" and it < max_iter else "max_iter"
+
+
+def solve_small(problem, method: str, tol: float, max_iter: int, r0, polish, t0: float) -> Solution:
+    """:func:`~frictionrules.solve` on the small path (arguments checked; ``polish``: the
+    :class:`PolishOptions` of ``method="polish"`` or None; ``t0``: the call's start on
+    ``time.perf_counter``). Its ``cpu_seconds`` is the wall time of the call: the thread's CPU
+    clock is a system call of 0.6 µs, and two of them were a sixth of a 1-contact solve; a call
+    of microseconds runs on one processor, so its wall time is its CPU time, or more when the
+    thread was preempted. (Every module-level name here is a global of this module: bound
+    through another module's attribute, each was 20 ns of a 4 µs call.)"""
+    W = problem.W
+    n = 3 * problem.nc
+    if r0 is None:
+        r = np.zeros(n)
+    else:
+        r = check_finite("r0", r0).ravel().astype(float)
+        if r.size != n:
+            raise FrictionRulesError(f"r0 has {r.size} entries; constraint: 3 nc = {n}")
+    u, h_err, h_it = np.empty(n), np.empty(HISTORY), np.empty(HISTORY, np.int64)
+    if polish is None or method != "polish":
+        polish = POLISH_DEFAULTS
+    mode = MODES[method]
+    r_start = None if r0 is None else r.copy()
+    it, err, bounded, stages, nh = solve_into(W.indptr, W.indices, W.data, problem.q, problem.mu_bar,
+                                              problem.dilatancy, r, u, h_err, h_it, tol, max_iter, mode,
+                                              polish.contraction, polish.patience, polish.max_halvings, UNBOUNDED)
+    if nh > HISTORY:            # a history longer than the buffers: the same run with room for it
+        r = np.zeros(n) if r_start is None else r_start
+        h_err, h_it = np.empty(nh + CHUNK), np.empty(nh + CHUNK, dtype=np.int64)
+        it, err, bounded, stages, nh = solve_into(W.indptr, W.indices, W.data, problem.q, problem.mu_bar,
+                                                  problem.dilatancy, r, u, h_err, h_it, tol, max_iter, mode,
+                                                  polish.contraction, polish.patience, polish.max_halvings,
+                                                  UNBOUNDED)
+    why = reason(method, bounded, err, tol, it, max_iter)
+    seconds = time.perf_counter() - t0
+    return Solution._record(r, u, err, it, why == "converged", h_err[:nh], h_it[:nh], STAGE_NAMES[mode][stages],
+                            seconds, why, seconds)

@@ -163,24 +163,29 @@ def solve(problem: FrictionContactProblem, method: str = "auto", tol: float = 1e
         stopped; ``history[k]`` the error after iteration ``history_iterations[k]``;
         ``seconds`` and ``cpu_seconds`` the wall and CPU time of the call.
     """
-    c0, t0 = time.thread_time(), time.perf_counter()
-    if (type(problem) is FrictionContactProblem and problem.nc <= SMALL_MAX and method in SMALL_MODES
+    t0 = time.perf_counter()
+    if (type(problem) is FrictionContactProblem and method in SMALL_MODES and problem.nc <= SMALL_MAX
             and problem.frames is None and callback is None and time_limit is None and options is None
             and max_iter is None and r0 is None and type(tol) is float and 0.0 <= tol < np.inf
             and (blas_threads is None or type(blas_threads) is int and blas_threads >= 1)):
         # the small path with every argument at its default: nothing else to check
+        sol = _small_path().solve_small(problem, method, tol, METHODS[method].max_iter, None, None, t0)
+        if sol.converged or method != "auto":
+            return sol
         opts, max_iter = None, METHODS[method].max_iter
+        c0 = time.thread_time() - sol.seconds       # the small attempt's CPU time: its wall time
     else:
         tol, max_iter, time_limit, blas_threads, opts = _check(problem, method, tol, max_iter, time_limit,
                                                                blas_threads, callback, options)
-    if (problem.nc <= SMALL_MAX and method in SMALL_MODES and problem.frames is None
-            and callback is None and time_limit is None):
-        r, u, err, it, hist, hist_it, ran, reason = _solve_small(problem, method, tol, max_iter, r0, opts,
-                                                                 _small_path())
-        if reason == "converged" or method != "auto":
-            return Solution._record(r, u, err, it, reason == "converged", hist, hist_it, ran,
-                                    time.perf_counter() - t0, reason, time.thread_time() - c0)
-        opts = options_for(method, options)
+        if (problem.nc <= SMALL_MAX and method in SMALL_MODES and problem.frames is None
+                and callback is None and time_limit is None):
+            sol = _small_path().solve_small(problem, method, tol, max_iter, r0, opts, t0)
+            if sol.converged or method != "auto":
+                return sol
+            opts = options_for(method, options)
+            c0 = time.thread_time() - sol.seconds
+        else:
+            c0 = time.thread_time()
     with thread_limits(blas_threads):
         fr = _Frame(problem)
         r = _initial(problem, fr, r0)
@@ -204,33 +209,6 @@ def solve(problem: FrictionContactProblem, method: str = "auto", tol: float = 1e
                     history=np.array(mon.errors), history_iterations=np.array(mon.iterations, dtype=int),
                     method=ran, seconds=time.perf_counter() - t0, reason=reason,
                     cpu_seconds=time.thread_time() - c0)
-
-
-def _solve_small(problem, method, tol, max_iter, r0, opts, small):
-    """The compiled small-problem path (:mod:`._small`): ``(r, u, error, iterations, history,
-    history_iterations, stages, reason)``."""
-    W = problem.W
-    n = 3 * problem.nc
-    r, u, h_err, h_it = small.buffers(n)
-    if r0 is not None:
-        r = check_finite("r0", r0).ravel().astype(float)
-        if r.size != n:
-            raise FrictionRulesError(f"r0 has {r.size} entries; constraint: 3 nc = {n}")
-    polish = opts if method == "polish" and opts is not None else small.POLISH_DEFAULTS
-    mode = small.MODES[method]
-    it, err, bounded, stages, nh, h_err, h_it = small.small_solve(
-        W.indptr, W.indices, W.data, problem.q, problem.mu_bar, problem.dilatancy, r, u, h_err, h_it, tol,
-        max_iter, mode, polish.contraction, polish.patience, polish.max_halvings, small.UNBOUNDED)
-    reason = _small_reason(method, bounded, err, tol, it, max_iter)
-    return r, u, err, it, h_err[:nh], h_it[:nh], small.stage_names(mode, stages), reason
-
-
-def _small_reason(method, bounded, err, tol, it, max_iter) -> str:
-    if not bounded:
-        return "unbounded"
-    if err <= tol:
-        return "converged"
-    return "stalled" if method == "polish" and it < max_iter else "max_iter"
 
 
 #: Problems per compiled call of :func:`solve_batch` (its history buffers: 4 kB a problem).
@@ -310,13 +288,13 @@ def _solve_small_many(problems, method, tol, max_iter, small) -> list:
     sols = []
     starts = (3 * con_start).tolist()       # Python numbers: a tenth of NumPy scalars' cost
     for k, ((it, bounded, stages, nh), (err, cpu, wall)) in enumerate(zip(out_int.tolist(), out_float.tolist())):
-        reason = _small_reason(method, bounded, err, tol, it, max_iter)
+        reason = small.reason(method, bounded, err, tol, it, max_iter)
         if nh < 0 or (method == "auto" and reason != "converged"):
             sols.append(None)
             continue
         a, b = starts[k], starts[k + 1]
         sols.append(Solution._record(r[a:b], u[a:b], err, it, reason == "converged", h_err[k, :nh], h_it[k, :nh],
-                                     small.stage_names(mode, stages), wall, reason, cpu))
+                                     small.STAGE_NAMES[mode][stages], wall, reason, cpu))
     return sols
 
 

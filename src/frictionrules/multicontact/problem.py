@@ -273,7 +273,10 @@ class Solution:
     cpu_seconds : float
         CPU time of the call in the calling thread (``time.thread_time``): the solver's own
         work, BLAS included (it runs in that thread under ``blas_threads=1``), other jobs on
-        the machine and other threads of the process excluded.
+        the machine and other threads of the process excluded. On the small-problem path (at
+        most 16 contacts, ``nsgs``, ``polish`` or ``auto``) the wall time of the call, which
+        a call of microseconds spends on one processor (more when the thread was preempted):
+        the CPU clock's system call would cost a sixth of such a call.
     """
 
     r: np.ndarray
@@ -292,9 +295,10 @@ class Solution:
     def _record(cls, r, u, error, iterations, converged, history, history_iterations, method, seconds, reason,
                 cpu_seconds) -> "Solution":
         """The same frozen record, every field given in order, built without the generated
-        ``__init__`` (its per-field ``object.__setattr__`` is 1.1 µs of a 5 µs small solve)."""
+        ``__init__`` (its per-field ``object.__setattr__`` was 1.1 µs of a 5 µs small solve)."""
         self = object.__new__(cls)
-        self.__dict__.update(r=r, u=u, error=error, iterations=iterations, converged=converged, history=history,
-                             history_iterations=history_iterations, method=method, seconds=seconds,
-                             reason=reason, cpu_seconds=cpu_seconds)
+        d = self.__dict__           # item by item: 0.1 µs less than dict.update's keywords
+        d["r"], d["u"], d["error"], d["iterations"], d["converged"] = r, u, error, iterations, converged
+        d["history"], d["history_iterations"], d["method"] = history, history_iterations, method
+        d["seconds"], d["reason"], d["cpu_seconds"] = seconds, reason, cpu_seconds
         return self
