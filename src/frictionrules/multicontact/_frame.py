@@ -7,6 +7,7 @@ user's callback, and decides when a run stops and why (:data:`REASONS`).
 
 from __future__ import annotations
 
+import math
 import time
 
 import numpy as np
@@ -24,6 +25,12 @@ UNBOUNDED = 1e6
 
 #: Errors over which :meth:`_Monitor.predicted` measures a stage's linear rate.
 RATE_POINTS = 4
+
+
+def norm(x) -> float:
+    """``np.linalg.norm`` of a 1-D float array, the same bits (NumPy takes ``sqrt(x.dot(x))``)
+    without its checks (about 10 us a call, 0.3 ms of a 13 ms ADMM solve of KaplasTower)."""
+    return math.sqrt(x.dot(x))
 
 
 class _Frame:
@@ -52,7 +59,7 @@ class _Frame:
         from . import _kernels as K
         u = self.W @ r + self.q if u is None else u
         e = np.sqrt(K.error_sum(r, u, self.mu, self.d))
-        scale = max(self.norm_q, np.linalg.norm(r), np.linalg.norm(u))
+        scale = max(self.norm_q, norm(r), norm(u))
         return e / scale if scale > np.finfo(float).eps else e
 
     def rho(self, W=None):
@@ -102,7 +109,7 @@ class _Monitor:
                                                     self.elapsed())))
         if err <= self.tol:
             self.reason = "converged"
-        elif not np.isfinite(err) or np.linalg.norm(r) > self.fr.r_bound:
+        elif not np.isfinite(err) or norm(r) > self.fr.r_bound:
             self.reason = "unbounded"
         elif stop:
             self.reason = "callback"

@@ -1,0 +1,153 @@
+"""ADMM's sparse LU: the contacts' minimum-degree ordering and the permuted, shifted matrix
+handed to SuperLU (checked against SciPy's own slicing and against a dense solve)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+
+from frictionrules import FrictionContactProblem
+from frictionrules.multicontact import _ordering as O
+from frictionrules.multicontact._admm import _Factor
+from frictionrules.multicontact._frame import _Frame
+
+
+def block_matrix(nc: int, seed: int, density: float = 0.05, drop_diagonal=(), nonsymmetric=0.0):
+    """A 3 nc x 3 nc CSR matrix of random 3 x 3 blocks (symmetric pattern, SPD plus an
+    optional nonsymmetric part), with the diagonal entries ``drop_diagonal`` not stored."""
+    rng = np.random.default_rng(seed)
+    B = sp.random(nc, nc, density=density, random_state=rng, format="csr")
+    B = ((B + B.T) != 0).astype(float) + sp.identity(nc)
+    A = sp.kron(B, np.ones((3, 3)), format="csr")
+    A.data = rng.normal(size=A.nnz)
+    A = A @ A.T + nonsymmetric * A + 3 * nc * sp.identity(3 * nc)
+    A = sp.csr_matrix(A)
+    if len(drop_diagonal):
+        A = A.tolil()
+        for i in drop_diagonal:
+            A[i, i] = 0.0
+        A = A.tocsr()
+        A.eliminate_zeros()
+    A.sort_indices()
+    return A
+
+
+@pytest.mark.parametrize("seed, drop, contacts", [(0, (), False), (1, (0, 5, 17), False), (2, (3,), True),
+                                                 (3, (), True)])
+def test_shifted_permuted_csc_is_scipy_slicing(seed, drop, contacts):
+    """Both paths: whole 3 x 3 blocks moved by a permutation of contacts (seed 3), entries one
+    by one otherwise (a permutation of unknowns, or diagonal entries missing)."""
+    nc = 40
+    A = block_matrix(nc, seed, drop_diagonal=drop)
+    rng = np.random.default_rng(seed)
+    perm = ((3 * rng.permutation(nc))[:, None] + np.arange(3)).ravel() if contacts else rng.permutation(3 * nc)
+    c = 0.25
+    indptr, indices = A.indptr.astype(np.int32), A.indices.astype(np.int32)
+    assert O._dense_blocks(indptr, indices, nc) == (not drop)
+    ptr, rows, vals = O.shifted_permuted_csc(indptr, indices, A.data, perm, c)
+    B = sp.csc_matrix((vals, rows, ptr), shape=A.shape)
+    assert B.has_canonical_format
+    ref = (A + c * sp.identity(3 * nc)).tocsc()[perm][:, perm]
+    assert B.nnz == ref.nnz
+    assert abs(B - ref).max() == 0.0
+
+
+def test_contact_graph_is_the_block_pattern_of_a_plus_transpose():
+    nc = 70                                   # two words of bits per contact
+    A = block_matrix(nc, 3, density=0.08)
+    A = sp.csr_matrix(sp.triu(A))             # a nonsymmetric pattern
+    G = O.contact_graph(A.indptr, A.indices, nc)
+    Gu = O.contact_graph(A.indptr.astype(np.int32).view(np.uint32), A.indices.astype(np.int32).view(np.uint32), nc)
+    np.testing.assert_array_equal(G, Gu)
+    bits = np.unpackbits(G.view(np.uint8), axis=1, bitorder="little")[:, :nc].astype(bool)
+    block = (abs(A) + abs(A.T)).tocsr()
+    ref = np.zeros((nc, nc), bool)
+    rows, cols = block.nonzero()
+    ref[rows // 3, cols // 3] = True
+    np.fill_diagonal(ref, False)
+    np.testing.assert_array_equal(bits, ref)
+
+
+def elimination_fill(G_dense: np.ndarray, order) -> int:
+    """Edges of the filled graph of eliminating ``order`` (dense reference)."""
+    G = G_dense.copy()
+    alive = np.ones(len(G), bool)
+    fill = 0
+    for v in order:
+        alive[v] = False
+        nb = np.flatnonzero(G[v] & alive)
+        fill += nb.size
+        G[np.ix_(nb, nb)] = True
+    return fill
+
+
+def to_bits(G_dense: np.ndarray) -> np.ndarray:
+    n = len(G_dense)
+    padded = np.zeros((n, 64 * ((n + 63) // 64)), np.uint8)
+    padded[:, :n] = G_dense
+    return np.packbits(padded, axis=1, bitorder="little").view(np.uint64).copy()
+
+
+def test_minimum_degree_on_a_star_a_path_and_a_grid():
+    n = 9                                      # star: the leaves first, no fill
+    star = np.zeros((n, n), bool)
+    star[0, 1:] = star[1:, 0] = True
+    order, parent = O.minimum_degree(to_bits(star))
+    assert sorted(order) == list(range(n)) and set(order[:n - 2]) <= set(range(1, n))
+    assert elimination_fill(star, order) == n - 1
+    path = np.zeros((n, n), bool)              # path: no fill, a chain as the tree
+    path[np.arange(n - 1), np.arange(1, n)] = path[np.arange(1, n), np.arange(n - 1)] = True
+    order, parent = O.minimum_degree(to_bits(path))
+    assert elimination_fill(path, order) == n - 1
+    m = 8                                      # 8 x 8 grid: much less fill than the natural order
+    grid = np.zeros((m * m, m * m), bool)
+    for i in range(m):
+        for j in range(m):
+            if i + 1 < m:
+                grid[i * m + j, (i + 1) * m + j] = grid[(i + 1) * m + j, i * m + j] = True
+            if j + 1 < m:
+                grid[i * m + j, i * m + j + 1] = grid[i * m + j + 1, i * m + j] = True
+    order, parent = O.minimum_degree(to_bits(grid))
+    assert sorted(order) == list(range(m * m))
+    assert elimination_fill(grid, order) < 0.8 * elimination_fill(grid, np.arange(m * m))
+    post = O.postorder(order, parent)          # a postorder: every node after its descendants
+    pos = np.empty(m * m, int)
+    pos[post] = np.arange(m * m)
+    assert all(parent[v] == -1 or pos[parent[v]] > pos[v] for v in range(m * m))
+    assert elimination_fill(grid, post) == elimination_fill(grid, order)
+
+
+def test_indistinguishable_contacts_are_eliminated_together():
+    # contacts 0-3 have the same closed neighbourhood {0,1,2,3,4}; 4 joins them to 5-7
+    n = 8
+    G = np.zeros((n, n), bool)
+    clique = [0, 1, 2, 3, 4]
+    G[np.ix_(clique, clique)] = True
+    G[4, 5:] = G[5:, 4] = True
+    np.fill_diagonal(G, False)
+    order, _ = O.minimum_degree(to_bits(G))
+    pos = {v: k for k, v in enumerate(order)}
+    first = [pos[v] for v in range(4)]
+    assert max(first) - min(first) == 3            # one supervariable
+    assert elimination_fill(G, order) <= elimination_fill(G, range(n))
+
+
+@pytest.mark.parametrize("nonsymmetric", [0.0, 0.3])
+def test_factor_with_the_contact_ordering_solves(nonsymmetric):
+    nc = 200                                       # 600 unknowns: the sparse path
+    W = block_matrix(nc, 4, density=0.02, nonsymmetric=nonsymmetric)
+    problem = FrictionContactProblem(W, np.ones(3 * nc), np.full(nc, 0.5))
+    fr = _Frame(problem)
+    c = 0.1
+    f = _Factor(fr, c)
+    b = np.random.default_rng(5).normal(size=3 * nc)
+    x = f.solve(b)
+    ref = np.linalg.solve(fr.W.toarray() + c * np.eye(3 * nc), b)
+    np.testing.assert_allclose(x, ref, rtol=1e-10, atol=1e-12 * np.abs(ref).max())
+    again = f.solve(b)                             # the kept last solve, as a fresh array
+    np.testing.assert_array_equal(again, x)
+    assert again is not x
+    perm = fr.cache["admm_ordering"]
+    assert np.array_equal(np.sort(perm), np.arange(3 * nc))
+    assert np.all(perm[1::3] == perm[0::3] + 1) and np.all(perm[0::3] % 3 == 0)
