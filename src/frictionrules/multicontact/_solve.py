@@ -222,12 +222,12 @@ def solve_batch(problems, method: str = "auto", tol: float = 1e-8, max_iter: int
     (``nsgs``, ``polish`` or ``auto``) solved in one compiled call.
 
     A physics step, a calibration or a parameter sweep solves thousands of small problems;
-    one at a time each pays a Python call (about 6 µs of argument handling, buffers and its
-    record); here they share one, and each problem costs its compiled work, about 1 µs of
-    timing (its ``cpu_seconds`` and ``seconds`` are its own, read from the thread's CPU clock
-    and the monotonic clock around it) and its :class:`Solution`. An ``auto`` run that does
-    not converge there goes on with the general path, as in :func:`solve`; so does every
-    problem on a platform without those clocks.
+    one at a time each pays a Python call (about 4 µs of argument handling, dispatch, buffers
+    and its record); here they share one, and each problem costs its compiled work, two
+    readings of the monotonic clock (its ``seconds``, also its ``cpu_seconds`` as on the small
+    path of :func:`solve`) and its :class:`Solution`. An ``auto`` run that does not converge
+    there goes on with the general path, as in :func:`solve`; so does every problem on a
+    platform without that clock (:data:`._small.CLOCK`).
 
     Parameters
     ----------
@@ -250,7 +250,7 @@ def solve_batch(problems, method: str = "auto", tol: float = 1e-8, max_iter: int
     small = _small_path()
     batch = [k for k, p in enumerate(problems) if type(p) is FrictionContactProblem and p.nc <= SMALL_MAX
              and p.frames is None]
-    if method in SMALL_MODES and small.CLOCKS is not None and batch:
+    if method in SMALL_MODES and small.CLOCK is not None and batch:
         tol = float(tol)
         limit = METHODS[method].max_iter if max_iter is None else int(max_iter)
         for start in range(0, len(batch), _BATCH_BLOCK):
@@ -276,7 +276,7 @@ def _solve_small_many(problems, method, tol, max_iter, small) -> list:
     n = 3 * int(con_start[-1])
     r, u = np.zeros(n), np.empty(n)
     h_err, h_it = np.empty((P, small.HISTORY)), np.empty((P, small.HISTORY), dtype=np.int64)
-    out_int, out_float = np.empty((P, 4), dtype=np.int64), np.empty((P, 3))
+    out_int, out_float = np.empty((P, 4), dtype=np.int64), np.empty((P, 2))
     polish = small.POLISH_DEFAULTS
     mode = small.MODES[method]
     small.small_solve_many(
@@ -284,17 +284,17 @@ def _solve_small_many(problems, method, tol, max_iter, small) -> list:
         nnz_start, cat([p.q for p in problems]),
         cat([p.mu_bar for p in problems]), cat([p.dilatancy for p in problems]), con_start, r, u, h_err, h_it,
         tol, max_iter, mode, polish.contraction, polish.patience, polish.max_halvings, small.UNBOUNDED,
-        small.CLOCKS[0], small.CLOCKS[1], out_int, out_float)
+        small.CLOCK, out_int, out_float)
     sols = []
     starts = (3 * con_start).tolist()       # Python numbers: a tenth of NumPy scalars' cost
-    for k, ((it, bounded, stages, nh), (err, cpu, wall)) in enumerate(zip(out_int.tolist(), out_float.tolist())):
+    for k, ((it, bounded, stages, nh), (err, seconds)) in enumerate(zip(out_int.tolist(), out_float.tolist())):
         reason = small.reason(method, bounded, err, tol, it, max_iter)
         if nh < 0 or (method == "auto" and reason != "converged"):
             sols.append(None)
             continue
         a, b = starts[k], starts[k + 1]
         sols.append(Solution._record(r[a:b], u[a:b], err, it, reason == "converged", h_err[k, :nh], h_it[k, :nh],
-                                     small.STAGE_NAMES[mode][stages], wall, reason, cpu))
+                                     small.STAGE_NAMES[mode][stages], seconds, reason, seconds))
     return sols
 
 
