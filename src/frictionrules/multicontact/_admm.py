@@ -32,22 +32,15 @@ from ._frame import _Frame, _Monitor, norm
 from ._options import ADMMOptions
 
 
-def largest_eigenvalue(W, iterations: int, csr=None) -> float:
-    """Power-iteration estimate of the largest eigenvalue modulus of W (products with the
-    compiled kernel on ``csr``, W's CSR arrays, when given: the same bits)."""
+def largest_eigenvalue(W, iterations: int) -> float:
+    """Power-iteration estimate of the largest eigenvalue modulus of W (ADMM runs the same loop
+    compiled, :func:`._admm_steps.power_iteration`: the same bits)."""
     n = W.shape[0]
-    if csr is None:
-        product = W.__matmul__
-    else:
-        from . import _kernels as K
-        zero = np.zeros(n)
-        def product(v):
-            return K.csr_matvec(*csr, v, zero)
     v = np.random.default_rng(0).uniform(0.5, 1.5, n)
     v /= norm(v)
     lam = 0.0
     for _ in range(iterations):
-        w = product(v)
+        w = W @ v
         lam = norm(w)
         if lam == 0.0:
             return 0.0
@@ -55,22 +48,40 @@ def largest_eigenvalue(W, iterations: int, csr=None) -> float:
     return lam
 
 
-def _unsigned_csr(fr: _Frame):
-    """The frame's CSR arrays with the indices viewed as unsigned: the compiled kernels then
-    skip the wrapping of negative indices, and a product with W took 0.064 ms on KaplasTower
-    instead of 0.126 ms (SciPy's 0.073 ms)."""
-    if "admm_csr" not in fr.cache:
+def _compiled_w(fr: _Frame):
+    """``(indptr, indices, data, blocks)``: the frame's CSR arrays, the indices viewed as
+    unsigned (the compiled code then skips the wrapping of negative indices: a product with W
+    by entries took 0.064 ms on KaplasTower instead of 0.126), and whether W is made of whole
+    3 x 3 blocks (:func:`._ordering._dense_blocks`)."""
+    if "admm_w" not in fr.cache:
+        from ._ordering import _dense_blocks
         indptr, indices, data = fr.csr
-        fr.cache["admm_csr"] = (indptr.view(np.uint32), indices.view(np.uint32), data)
-    return fr.cache["admm_csr"]
+        fr.cache["admm_w"] = (indptr.view(np.uint32), indices.view(np.uint32), data,
+                              bool(_dense_blocks(indptr, indices, fr.nc)))
+    return fr.cache["admm_w"]
+
+
+def _product(fr: _Frame):
+    r"""The frame's compiled :math:`(x, q) \mapsto q + W x`, summed as SciPy's product (the
+    same bits): by 3 x 3 blocks when W is made of them (:func:`._admm_steps.block_matvec`), by
+    entries otherwise."""
+    from . import _admm_steps as S
+    from . import _kernels as K
+    indptr, indices, data, blocks = _compiled_w(fr)
+    kernel = S.block_matvec if blocks else K.csr_matvec
+
+    def product(x, q):
+        return kernel(indptr, indices, data, x, q)
+    return product
 
 
 class _Factor:
     r"""Solves with :math:`A = W + c I`: dense LU up to 400 unknowns, SuperLU otherwise.
 
     SuperLU runs on diagonal pivots in symmetric mode (the fastest, and W is symmetric or
-    nearly so), which can cost digits on a nonsymmetric W: when a test solve misses
-    :math:`10^{-12}` relative residual, every solve takes one step of iterative refinement.
+    nearly so), which can cost digits on a nonsymmetric W: when a test solve (beside the first
+    one, as a second right-hand side) misses :math:`10^{-12}` relative residual, every solve
+    takes one step of iterative refinement.
     (Without it ADMM stalled at 2e-8 on the 1,264-box pile, whose W is nonsymmetric by 2e-3;
     the test's right-hand side is random: the residual of a solve with ``-q`` met the bound
     there.) The unknowns are ordered by :func:`._ordering.contact_ordering` (computed once per
@@ -93,7 +104,7 @@ class _Factor:
             return
         import scipy.sparse as sp
         import scipy.sparse.linalg as spla
-        self.csr, self.c = _unsigned_csr(fr), c
+        self.product, self.c = _product(fr), c
         perm = _ordering(fr)
         if perm is None:
             A = (W + c * sp.identity(n, format="csr")).tocsc()
@@ -101,22 +112,19 @@ class _Factor:
                                     options={"SymmetricMode": True}).solve
         else:
             from ._ordering import shifted_permuted_csc
-            ptr, rows, vals = shifted_permuted_csc(*fr.csr, perm, c)
+            ptr, rows, vals = shifted_permuted_csc(*fr.csr, perm, c, _compiled_w(fr)[3])
             lu = spla.splu(sp.csc_matrix((vals, rows, ptr), shape=(n, n)), permc_spec="NATURAL",
                            diag_pivot_thresh=0.0, options={"SymmetricMode": True})
 
             def solve(b):
-                x = np.empty(n)
+                x = np.empty_like(b)
                 x[perm] = lu.solve(b[perm])
                 return x
             self._solve = solve
-        b = np.random.default_rng(1).normal(size=n)
-        self.refine = False
-        self.refine = bool(norm(self._residual(self._solve(b), b)) > 1e-12 * norm(b))
+        self.refine = None              # decided by the first solve
 
     def _residual(self, x, b):
-        from . import _kernels as K
-        return K.csr_matvec(*self.csr, x, self.c * x - b)
+        return self.product(x, self.c * x - b)
 
     def solve(self, b):
         """The solution of :math:`A x = b` (a new array)."""
@@ -125,7 +133,13 @@ class _Factor:
             self.kept = None
             if np.array_equal(b, kept_b):
                 return kept_x
-        x = self._solve(b)
+        if self.refine is None:         # with the random test's right-hand side: one pass over
+            t = np.random.default_rng(1).normal(size=b.size)    # the factors (0.25 ms, not 0.32)
+            X = self._solve(np.column_stack((t, b)))
+            x_t, x = np.ascontiguousarray(X[:, 0]), np.ascontiguousarray(X[:, 1])
+            self.refine = bool(norm(self._residual(x_t, t)) > 1e-12 * norm(t))
+        else:
+            x = self._solve(b)
         if self.refine:
             x = x - self._solve(self._residual(x, b))
         if self.first:
@@ -195,7 +209,10 @@ def _ordering(fr: _Frame):
 def _largest(fr: _Frame, iterations: int) -> float:
     key = ("largest_eigenvalue", iterations)
     if key not in fr.cache:
-        fr.cache[key] = largest_eigenvalue(fr.W, iterations, _unsigned_csr(fr)) or fr.mean_diag
+        from . import _admm_steps as S
+        v = np.random.default_rng(0).uniform(0.5, 1.5, fr.W.shape[0])
+        indptr, indices, data, blocks = _compiled_w(fr)
+        fr.cache[key] = S.power_iteration(indptr, indices, data, v, iterations, blocks) or fr.mean_diag
     return fr.cache[key]
 
 
@@ -219,7 +236,7 @@ def run_admm(fr: _Frame, r, max_iter: int, mon: _Monitor, opts: ADMMOptions):
     from . import _admm_steps as S
     from . import _kernels as K
     W, q, mu, d = fr.W, fr.q, fr.mu, fr.d
-    csr = _unsigned_csr(fr)
+    product = _product(fr)
     n = q.size
     L = _largest(fr, opts.power_iterations)
     eta = opts.eta * L
@@ -256,7 +273,7 @@ def run_admm(fr: _Frame, r, max_iter: int, mon: _Monitor, opts: ADMMOptions):
             continue
         y_new = tv[:n]
         x = x_new
-        err = K.fc3d_error_kernel(*csr, q, mu, d, y_new, fr.norm_q)[0]    # fr.error, compiled
+        err = fr.error(y_new, product(y_new, q))
         if err < best_err:
             best_r, best_err = y_new, err
         if mon.record("admm", it, y_new, err):

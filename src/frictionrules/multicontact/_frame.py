@@ -48,7 +48,10 @@ class _Frame:
         self.d = np.ascontiguousarray(problem.dilatancy, dtype=float)
         self.nc = problem.nc
         self.norm_q = float(np.linalg.norm(self.q))
-        self.csr = (self.W.indptr.astype(np.int32), self.W.indices.astype(np.int32), self.W.data)
+        # W's own index arrays when they are int32 already (SciPy's usual): a copy of the
+        # indices of KaplasTower was 0.47 MB of fresh pages, 0.1-0.25 ms a solve
+        self.csr = (self.W.indptr.astype(np.int32, copy=False), self.W.indices.astype(np.int32, copy=False),
+                    self.W.data)
         diag = np.abs(self.W.diagonal())
         self.mean_diag = float(np.mean(diag[diag > 0])) if np.any(diag > 0) else 1.0
         self.r_bound = UNBOUNDED * max(self.norm_q, np.finfo(float).tiny) / self.mean_diag

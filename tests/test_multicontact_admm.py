@@ -1,5 +1,7 @@
-"""ADMM's sparse LU: the contacts' minimum-degree ordering and the permuted, shifted matrix
-handed to SuperLU (checked against SciPy's own slicing and against a dense solve)."""
+"""ADMM's compiled pieces: the contacts' minimum-degree ordering and the permuted, shifted
+matrix handed to SuperLU (checked against SciPy's own slicing and against a dense solve), the
+products with W and the power iteration (the bits of SciPy's product), and the iteration's
+arithmetic against its NumPy expressions."""
 
 from __future__ import annotations
 
@@ -8,8 +10,16 @@ import pytest
 import scipy.sparse as sp
 
 from frictionrules import FrictionContactProblem
+from frictionrules.multicontact import _admm_steps as S
+from frictionrules.multicontact import _kernels as K
 from frictionrules.multicontact import _ordering as O
-from frictionrules.multicontact._admm import _Factor
+from frictionrules.multicontact._admm import (
+    _Anderson,
+    _compiled_w,
+    _Factor,
+    _product,
+    largest_eigenvalue,
+)
 from frictionrules.multicontact._frame import _Frame
 
 
@@ -151,3 +161,80 @@ def test_factor_with_the_contact_ordering_solves(nonsymmetric):
     perm = fr.cache["admm_ordering"]
     assert np.array_equal(np.sort(perm), np.arange(3 * nc))
     assert np.all(perm[1::3] == perm[0::3] + 1) and np.all(perm[0::3] % 3 == 0)
+
+
+@pytest.mark.parametrize("drop", [(), (4,)])
+def test_products_and_power_iteration_have_scipys_bits(drop):
+    nc = 150
+    W = block_matrix(nc, 6, density=0.03, nonsymmetric=0.2, drop_diagonal=drop)
+    fr = _Frame(FrictionContactProblem(W, np.ones(3 * nc), np.full(nc, 0.5)))
+    assert _compiled_w(fr)[3] == (not drop)           # by blocks, or by entries
+    x, q = np.random.default_rng(7).normal(size=(2, 3 * nc))
+    product = _product(fr)
+    np.testing.assert_array_equal(product(x, np.zeros(3 * nc)), fr.W @ x)
+    np.testing.assert_allclose(product(x, q), fr.W @ x + q, rtol=1e-13, atol=1e-13)
+    indptr, indices, data, blocks = _compiled_w(fr)
+    v = np.random.default_rng(0).uniform(0.5, 1.5, 3 * nc)
+    assert S.power_iteration(indptr, indices, data, v, 10, blocks) == largest_eigenvalue(fr.W, 10)
+
+
+def test_iteration_arithmetic_is_the_numpy_expressions():
+    nc = 30
+    n = 3 * nc
+    rng = np.random.default_rng(8)
+    q, x, x_new = rng.normal(size=(3, n))
+    v = rng.normal(size=2 * n)
+    mu, dil = rng.uniform(0.2, 0.9, nc), rng.uniform(0.0, 0.5, nc)
+    rho, eta = 0.7, 1e-3
+    y, z = v[:n], v[n:]
+    s_ref = np.empty(n)
+    K.desaxce_shift(z, mu, dil, s_ref)
+    s = np.empty(n)
+    b = S.x_step_rhs(q, y, x, z, mu, dil, rho, eta, s)
+    np.testing.assert_array_equal(s, s_ref)
+    np.testing.assert_array_equal(b, -(q + s_ref) + rho * y + eta * x + z)
+    tv, res, primal, dual = S.y_z_steps(x_new, x, v, mu, rho, eta)
+    y_new = np.empty(n)
+    K.project_all(x_new - z / rho, mu, y_new)
+    np.testing.assert_array_equal(tv, np.concatenate((y_new, z - rho * (x_new - y_new))))
+    assert res == pytest.approx(np.linalg.norm(tv - v), rel=1e-14)
+    assert primal == np.max(np.abs(x_new - y_new))
+    assert dual == np.max(np.abs(rho * (y_new - y) + eta * (x_new - x)))
+    x_new[5] = np.nan
+    assert np.isnan(S.y_z_steps(x_new, x, v, mu, rho, eta)[2])
+
+
+def anderson_reference(m, pairs):
+    """The NumPy Anderson step (normal equations), for the compiled one."""
+    dG, dF, out = [], [], None
+    prev = None
+    for v, tv in pairs:
+        f = tv - v
+        if prev is not None:
+            dG.append(tv - prev[1])
+            dF.append(f - (prev[1] - prev[0]))
+            dG, dF = dG[-m:], dF[-m:]
+        prev = (v, tv)
+        if not dF:
+            out = tv
+            continue
+        F, G = np.array(dF), np.array(dG)
+        A = F @ F.T
+        gamma = np.linalg.solve(A + 1e-14 * np.trace(A) * np.eye(len(F)), F @ f)
+        out = tv - gamma @ G
+    return out
+
+
+def test_anderson_step_is_the_normal_equations():
+    rng = np.random.default_rng(9)
+    pairs = [(rng.normal(size=40), rng.normal(size=40)) for _ in range(8)]
+    a = _Anderson(3)
+    for k, (v, tv) in enumerate(pairs):
+        out = a.step(v, tv)
+        np.testing.assert_allclose(out, anderson_reference(3, pairs[:k + 1]), rtol=1e-9, atol=1e-12)
+    a.clear()                                        # the memory restarts, its arrays kept
+    assert a.step(*pairs[0]) is pairs[0][1]
+    same = np.ones(40)                               # a zero difference: the plain step
+    a = _Anderson(3)
+    a.step(same, same)
+    assert a.step(same, same) is same
