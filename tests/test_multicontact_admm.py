@@ -238,3 +238,15 @@ def test_anderson_step_is_the_normal_equations():
     a = _Anderson(3)
     a.step(same, same)
     assert a.step(same, same) is same
+
+
+def test_factor_beyond_the_bitset_limit_lets_superlu_order(monkeypatch):
+    nc = 200
+    W = block_matrix(nc, 10, density=0.02)
+    fr = _Frame(FrictionContactProblem(W, np.ones(3 * nc), np.full(nc, 0.5)))
+    monkeypatch.setattr(O, "BITSET_MAX", nc - 1)
+    f = _Factor(fr, 0.1)
+    assert fr.cache["admm_ordering"] is None
+    b = np.random.default_rng(11).normal(size=3 * nc)
+    ref = np.linalg.solve(fr.W.toarray() + 0.1 * np.eye(3 * nc), b)
+    np.testing.assert_allclose(f.solve(b), ref, rtol=1e-10, atol=1e-12 * np.abs(ref).max())

@@ -8,18 +8,20 @@ its elimination tree is postordered, and the matrix is handed to SuperLU already
 (570 contacts, nnz(W) = 116,784; each step timed in turn with the factorizations, their page
 faults included): ``W + cI`` and ``tocsc`` 1.8 ms, then ``splu`` 7.8 ms (7.4 ms on SuperLU's
 final permutation given as NATURAL), fill 301,122, 31.4 Mflop; here the ordering 0.3 ms, the
-permuted matrix 1.1 ms, ``splu`` 6.6 ms, fill 287,262, 28.7 Mflop. On the other piles, the
-old way against this one: 1,264 boxes 4.7 ms against 3.7 ms, 1,812 spheres 17.0 against 16.3,
-3,970 spheres 65 against 56 (their ordering 0.4, 1.2 and 3.6 ms).
+permuted matrix 1.1 ms, ``splu`` 6.6 ms, fill 287,262, 28.7 Mflop (over 11 random
+renumberings of the contacts: fill 283,734-300,780, 27.7-31.8 Mflop). On the other piles,
+the old way against this one: 1,264 boxes 4.7 ms against 3.7 ms, 1,812 spheres 17.0 against
+16.3, 3,970 spheres 65 against 56 (their ordering 0.4, 1.2 and 3.6 ms; fill 91,074 against
+90,606, 493,812 against 500,346, 1,665,786 against 1,615,944).
 
 The minimum degree is the classical one on the explicit elimination graph, stored as one bit
 set per contact (nc² / 8 bytes: used up to :data:`BITSET_MAX` contacts), with the two
 refinements that make minimum-degree orderings good (George & Liu, SIAM Review 31, 1989):
 contacts with the same closed neighbourhood are merged into one supervariable and eliminated
 together, and the degree that is minimized is the external one (the supervariable's own
-members not counted). Without them the fill was 311,004 on KaplasTower and 605,088 instead
-of 493,812 on the 1,812-sphere pile (500,346 with them); without the postorder the
-factorization of KaplasTower took 6.5 ms instead of 6.1 ms.
+members not counted). Without them the fill was 311,004 on KaplasTower and 605,088 on the
+1,812-sphere pile. The postorder (as CHOLMOD's) keeps each subtree's columns together; on
+KaplasTower SuperLU's time was the same with or without it (7.3 ms in one run of 25 each).
 """
 
 from __future__ import annotations
