@@ -250,3 +250,15 @@ def test_factor_beyond_the_bitset_limit_lets_superlu_order(monkeypatch):
     b = np.random.default_rng(11).normal(size=3 * nc)
     ref = np.linalg.solve(fr.W.toarray() + 0.1 * np.eye(3 * nc), b)
     np.testing.assert_allclose(f.solve(b), ref, rtol=1e-10, atol=1e-12 * np.abs(ref).max())
+
+
+def test_unsorted_rows_let_superlu_order():
+    nc = 150
+    W = block_matrix(nc, 12, density=0.03)
+    fr = _Frame(FrictionContactProblem(W, np.ones(3 * nc), np.full(nc, 0.5)))
+    fr.W.has_sorted_indices = False                  # the contacts' graph reads sorted rows
+    f = _Factor(fr, 0.1)
+    assert fr.cache["admm_ordering"] is None
+    b = np.random.default_rng(13).normal(size=3 * nc)
+    ref = np.linalg.solve(fr.W.toarray() + 0.1 * np.eye(3 * nc), b)
+    np.testing.assert_allclose(f.solve(b), ref, rtol=1e-10, atol=1e-12 * np.abs(ref).max())

@@ -208,11 +208,12 @@ def _factor(fr: _Frame, shift: float) -> _Factor:
 
 
 def _ordering(fr: _Frame):
-    """The frame's permutation of the unknowns for the sparse LU (None: SuperLU's own)."""
+    """The frame's permutation of the unknowns for the sparse LU (None: SuperLU's own, beyond
+    :data:`._ordering.BITSET_MAX` contacts or when W's rows are not sorted)."""
     from ._ordering import BITSET_MAX, contact_ordering
     if "admm_ordering" not in fr.cache:
         fr.cache["admm_ordering"] = (contact_ordering(fr.csr[0], fr.csr[1], fr.nc)
-                                     if fr.nc <= BITSET_MAX else None)
+                                     if fr.nc <= BITSET_MAX and fr.W.has_sorted_indices else None)
     return fr.cache["admm_ordering"]
 
 
