@@ -297,21 +297,22 @@ def solve_small(problem, method: str, tol: float, max_iter: int, r0, polish, t0:
         r = check_finite("r0", r0).ravel().astype(float)
         if r.size != n:
             raise FrictionRulesError(f"r0 has {r.size} entries; constraint: 3 nc = {n}")
-    u, h_err, h_it = np.empty(n), np.empty(HISTORY), np.empty(HISTORY, np.int64)
+    u = np.empty(n)
     if polish is None or method != "polish":
         polish = POLISH_DEFAULTS
     mode = MODES[method]
     r_start = None if r0 is None else r.copy()
-    it, err, bounded, stages, nh = solve_into(W.indptr, W.indices, W.data, problem.q, problem.mu_bar,
-                                              problem.dilatancy, r, u, h_err, h_it, tol, max_iter, mode,
-                                              polish.contraction, polish.patience, polish.max_halvings, UNBOUNDED)
-    if nh > HISTORY:            # a history longer than the buffers: the same run with room for it
-        r = np.zeros(n) if r_start is None else r_start
-        h_err, h_it = np.empty(nh + CHUNK), np.empty(nh + CHUNK, dtype=np.int64)
+    size = HISTORY
+    while True:
+        h_err, h_it = np.empty(size), np.empty(size, np.int64)
         it, err, bounded, stages, nh = solve_into(W.indptr, W.indices, W.data, problem.q, problem.mu_bar,
                                                   problem.dilatancy, r, u, h_err, h_it, tol, max_iter, mode,
                                                   polish.contraction, polish.patience, polish.max_halvings,
                                                   UNBOUNDED)
+        if nh <= size:
+            break
+        size = nh + CHUNK           # a history longer than the buffers: the same run with room for it
+        r = np.zeros(n) if r_start is None else r_start.copy()
     why = reason(method, bounded, err, tol, it, max_iter)
     seconds = time.perf_counter() - t0
     return Solution._record(r, u, err, it, why == "converged", h_err[:nh], h_it[:nh], STAGE_NAMES[mode][stages],
