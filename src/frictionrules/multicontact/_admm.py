@@ -32,22 +32,6 @@ from ._frame import _Frame, _Monitor, norm
 from ._options import ADMMOptions
 
 
-def largest_eigenvalue(W, iterations: int) -> float:
-    """Power-iteration estimate of the largest eigenvalue modulus of W (ADMM runs the same loop
-    compiled, :func:`._admm_steps.power_iteration`: the same bits)."""
-    n = W.shape[0]
-    v = np.random.default_rng(0).uniform(0.5, 1.5, n)
-    v /= norm(v)
-    lam = 0.0
-    for _ in range(iterations):
-        w = W @ v
-        lam = norm(w)
-        if lam == 0.0:
-            return 0.0
-        v = w / lam
-    return lam
-
-
 def _compiled_w(fr: _Frame):
     """``(indptr, indices, data, blocks)``: the frame's CSR arrays, the indices viewed as
     unsigned (the compiled code then skips the wrapping of negative indices: a product with W
@@ -62,9 +46,9 @@ def _compiled_w(fr: _Frame):
 
 
 def _product(fr: _Frame):
-    r"""The frame's compiled :math:`(x, q) \mapsto q + W x`, summed as SciPy's product (the
-    same bits): by 3 x 3 blocks when W is made of them (:func:`._admm_steps.block_matvec`), by
-    entries otherwise."""
+    r"""The frame's compiled :math:`(x, q) \mapsto q + W x`, each row summed in the order of
+    SciPy's product: by 3 x 3 blocks when W is made of them
+    (:func:`._admm_steps.block_matvec`), by entries otherwise."""
     from . import _admm_steps as S
     from . import _kernels as K
     indptr, indices, data, blocks = _compiled_w(fr)

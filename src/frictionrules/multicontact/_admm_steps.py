@@ -115,7 +115,7 @@ def block_matvec(indptr, indices, data, x, q):
 def power_iteration(indptr, indices, data, v, iterations, blocks):
     """The largest eigenvalue modulus of W by ``iterations`` power iterations from ``v``
     (normalized here), the products by :func:`block_matvec` when ``blocks`` (W made of whole
-    3 x 3 blocks), by entries otherwise: the loop of ``_admm.largest_eigenvalue`` in one call."""
+    3 x 3 blocks), by entries otherwise, in one call."""
     zero = np.zeros(v.size)
     v = v / np.sqrt(np.dot(v, v))
     lam = 0.0
