@@ -244,14 +244,17 @@ def test_anderson_step_is_the_normal_equations():
     pairs = [(rng.normal(size=40), rng.normal(size=40)) for _ in range(8)]
     a = _Anderson(3)
     for k, (v, tv) in enumerate(pairs):
-        out = a.step(v, tv)
+        out, extrapolated = a.step(v, tv)
         np.testing.assert_allclose(out, anderson_reference(3, pairs[:k + 1]), rtol=1e-9, atol=1e-12)
+        assert extrapolated == (k > 0)
     a.clear()                                        # the memory restarts, its arrays kept
-    assert a.step(*pairs[0]) is pairs[0][1]
+    out, extrapolated = a.step(*pairs[0])
+    assert out is pairs[0][1] and not extrapolated
     same = np.ones(40)                               # a zero difference: the plain step
     a = _Anderson(3)
     a.step(same, same)
-    assert a.step(same, same) is same
+    out, extrapolated = a.step(same, same)
+    assert out is same and not extrapolated
 
 
 def test_factor_beyond_the_bitset_limit_lets_superlu_order(monkeypatch):

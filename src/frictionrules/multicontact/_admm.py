@@ -159,7 +159,9 @@ class _Anderson:
         self.k = 0
 
     def step(self, v, tv):
-        """The extrapolated next iterate from ``v`` and ``T(v)`` (``T(v)`` itself at first)."""
+        """``(next, extrapolated)``: the extrapolated next iterate from ``v`` and ``T(v)``, or
+        ``T(v)`` itself (``extrapolated`` false) at first and where the extrapolation is not
+        finite."""
         from . import _admm_steps as S
         if self.prev_v is not None:
             if self.dG is None:
@@ -170,11 +172,11 @@ class _Anderson:
         self.prev_v, self.prev_tv = v, tv
         used = min(self.k, self.m)
         if used == 0:
-            return tv
+            return tv, False
         try:
-            return S.anderson_mix(self.dF[:used], self.dG[:used], v, tv)[0]
+            return S.anderson_mix(self.dF[:used], self.dG[:used], v, tv)
         except np.linalg.LinAlgError:
-            return tv
+            return tv, False
 
 
 #: Factorizations of ``W + cI`` kept on a frame (the oldest dropped first).
@@ -285,8 +287,7 @@ def run_admm(fr: _Frame, r, max_iter: int, mon: _Monitor, opts: ADMMOptions):
                     anderson.clear()
         safe_v, safe_res = tv, res
         if anderson is not None:
-            v = anderson.step(v, tv)
-            extrapolated = v is not tv
+            v, extrapolated = anderson.step(v, tv)
         else:
             v = tv
     return best_r.copy(), it
