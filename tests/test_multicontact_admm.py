@@ -157,7 +157,7 @@ def test_factor_with_the_contact_ordering_solves(nonsymmetric):
     again = f.solve(b)                             # the kept last solve, as a fresh array
     np.testing.assert_array_equal(again, x)
     assert again is not x
-    perm = fr.cache["admm_ordering"]
+    perm = fr.cache["ordering"]
     assert np.array_equal(np.sort(perm), np.arange(3 * nc))
     assert np.all(perm[1::3] == perm[0::3] + 1) and np.all(perm[0::3] % 3 == 0)
 
@@ -263,7 +263,7 @@ def test_factor_beyond_the_bitset_limit_lets_superlu_order(monkeypatch):
     fr = _Frame(FrictionContactProblem(W, np.ones(3 * nc), np.full(nc, 0.5)))
     monkeypatch.setattr(O, "BITSET_MAX", nc - 1)
     f = _Factor(fr, 0.1)
-    assert fr.cache["admm_ordering"] is None
+    assert fr.cache["ordering"] is None
     b = np.random.default_rng(11).normal(size=3 * nc)
     ref = np.linalg.solve(fr.W.toarray() + 0.1 * np.eye(3 * nc), b)
     np.testing.assert_allclose(f.solve(b), ref, rtol=1e-10, atol=1e-12 * np.abs(ref).max())
@@ -275,7 +275,7 @@ def test_unsorted_rows_let_superlu_order():
     fr = _Frame(FrictionContactProblem(W, np.ones(3 * nc), np.full(nc, 0.5)))
     fr.W.has_sorted_indices = False                  # the contacts' graph reads sorted rows
     f = _Factor(fr, 0.1)
-    assert fr.cache["admm_ordering"] is None
+    assert fr.cache["ordering"] is None
     b = np.random.default_rng(13).normal(size=3 * nc)
     ref = np.linalg.solve(fr.W.toarray() + 0.1 * np.eye(3 * nc), b)
     np.testing.assert_allclose(f.solve(b), ref, rtol=1e-10, atol=1e-12 * np.abs(ref).max())

@@ -59,16 +59,6 @@ def _product(fr: _Frame):
     return product
 
 
-#: SuperLU's panel (columns updated together) for the contacts' ordering, below its default
-#: 20: its work arrays, zeroed at every factorization, are fresh memory, and a smaller panel
-#: touches fewer pages. Measured (``splu`` alone, 20 runs each; panel 20, 8): KaplasTower 6.97
-#: and 6.82 ms (837 and 747 page faults), 1,264 boxes 3.27 and 2.84, 1,812 spheres 14.7 and
-#: 14.1, 3,970 spheres 51.9 and 50.9, Capsules 0.50 and 0.42; a whole KaplasTower solve 0.4 ms
-#: less. (SciPy's SuperLU sizes a statistics table by its defaults: a panel above 20 wrote
-#: past it and corrupted the heap.)
-PANEL_SIZE = 8
-
-
 class _Factor:
     r"""Solves with :math:`A = W + c I`: dense LU up to 400 unknowns, SuperLU otherwise.
 
@@ -98,23 +88,16 @@ class _Factor:
             return
         import scipy.sparse as sp
         import scipy.sparse.linalg as spla
+
+        from ._ordering import frame_ordering, ordered_lu
         self.product, self.c = _product(fr), c
-        perm = _ordering(fr)
+        perm = frame_ordering(fr)
         if perm is None:
             A = (W + c * sp.identity(n, format="csr")).tocsc()
             self._solve = spla.splu(A, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
                                     options={"SymmetricMode": True}).solve
         else:
-            from ._ordering import shifted_permuted_csc
-            ptr, rows, vals = shifted_permuted_csc(*fr.csr, perm, c, _compiled_w(fr)[3])
-            lu = spla.splu(sp.csc_matrix((vals, rows, ptr), shape=(n, n)), permc_spec="NATURAL",
-                           diag_pivot_thresh=0.0, panel_size=PANEL_SIZE, options={"SymmetricMode": True})
-
-            def solve(b):
-                x = np.empty_like(b)
-                x[perm] = lu.solve(b[perm])
-                return x
-            self._solve = solve
+            self._solve = ordered_lu(*fr.csr, perm, c, _compiled_w(fr)[3])
         self.refine = None              # decided by the first solve
 
     def _residual(self, x, b):
@@ -191,16 +174,6 @@ def _factor(fr: _Frame, shift: float) -> _Factor:
             del factors[next(iter(factors))]
         factors[shift] = _Factor(fr, shift)
     return factors[shift]
-
-
-def _ordering(fr: _Frame):
-    """The frame's permutation of the unknowns for the sparse LU (None: SuperLU's own, beyond
-    :data:`._ordering.BITSET_MAX` contacts or when W's rows are not sorted)."""
-    from ._ordering import BITSET_MAX, contact_ordering
-    if "admm_ordering" not in fr.cache:
-        fr.cache["admm_ordering"] = (contact_ordering(fr.csr[0], fr.csr[1], fr.nc)
-                                     if fr.nc <= BITSET_MAX and fr.W.has_sorted_indices else None)
-    return fr.cache["admm_ordering"]
 
 
 def _largest(fr: _Frame, iterations: int) -> float:

@@ -34,28 +34,28 @@ def _refined(solve, J, b, steps: int, rtol: float):
     return None
 
 
-def newton_direction(JT, b, eye, opts: NewtonOptions, lm: bool = False):
+def newton_direction(JT, b, eye, opts: NewtonOptions, lm: bool = False, perm=None):
     r"""The direction ``x`` of a Newton step ``J x = b``, given ``J^T`` in CSC (J in CSR).
 
     ``lm=False``: by LU with iterative refinement. Up to ``opts.dense_max`` unknowns, or when
     J is denser than ``opts.dense_fill``, LAPACK's dense LU (SuperLU's set-up costs more
-    there); otherwise SuperLU with the symmetric minimum-degree ordering on diagonal pivots in
-    symmetric mode (J has the symmetric sparsity of W plus its diagonal, nonzero in every
-    contact state; half the fill of COLAMD on the towers, and a third of the factorization
-    time of the unsymmetric mode on the 1,812-contact sphere pile), then with partial
-    pivoting. A solve counts when its refined residual is within ``opts.direction_rtol |b|``
-    (refinement recovers the digits an ill-conditioned J loses: without it, the pile's
-    directions failed at 2.5e-10 and fell back to the slow Levenberg–Marquardt system).
-    When none does (J singular), or with ``lm=True``, the Levenberg–Marquardt direction
-    :math:`x = \arg\min |J x - b|^2 + \lambda |x|^2`, :math:`\lambda = ` ``opts.lm_weight``
-    :math:`|b|`, from :math:`(J^T J + \lambda I) x = J^T b`.
+    there); otherwise SuperLU on diagonal pivots in symmetric mode (J has the symmetric
+    sparsity of W plus its diagonal, nonzero in every contact state), first after the contacts'
+    minimum-degree ordering ``perm`` (:func:`._ordering.frame_ordering`), then after SuperLU's
+    symmetric minimum degree of the unknowns, then with partial pivoting; each is tried only
+    when the one before fails. (Measured over 40 iterations on the 1,812-contact sphere pile:
+    the contacts' ordering 16.5 ms a factorization, SuperLU's 18.1, partial pivoting 43.2; on
+    the 3,970 pile the first succeeded in 8 iterations, the second in none.) A solve counts
+    when its refined residual is within ``opts.direction_rtol |b|`` (refinement recovers the
+    digits an ill-conditioned J loses: without it, the pile's directions failed at 2.5e-10 and
+    fell back to the slow Levenberg–Marquardt system). When none does (J singular), or with
+    ``lm=True``, the Levenberg–Marquardt direction (:func:`lm_direction`).
 
     J is singular or nearly so where W is rank-deficient (more contacts than the bodies'
     degrees of freedom: the periodic box, stacks, towers) and contacts stick. With LU
     directions only, the iteration stagnates on LMGC_100_PR_PerioBox (error 4e-2 after 300
     iterations); switching to Levenberg–Marquardt while it stalls gives 6e-9 in 122.
     """
-    import scipy.sparse.linalg as spla
     norm_b = np.linalg.norm(b)
     if norm_b == 0.0:
         return np.zeros_like(b)
@@ -80,19 +80,77 @@ def newton_direction(JT, b, eye, opts: NewtonOptions, lm: bool = False):
         except np.linalg.LinAlgError:       # lam below J^T J's rounding: least squares
             return np.linalg.lstsq(J, b, rcond=None)[0]
     J = JT.T
-    attempts = ({"permc_spec": "MMD_AT_PLUS_A", "diag_pivot_thresh": 0.0, "options": {"SymmetricMode": True}},
-                {})
-    for options in () if lm else attempts:
+    for solve in () if lm else _sparse_lus(JT, perm):
+        x = _refined(solve, J, b, opts.refinement_steps, opts.direction_rtol)
+        if x is not None:
+            return x
+    return lm_direction(JT, b, lam, eye, opts, perm)
+
+
+def _sparse_lus(JT, perm):
+    """Solvers of ``J x = b`` (``J^T`` in CSC), each factorized only when asked for: after the
+    contacts' ordering (when ``perm``), after SuperLU's symmetric minimum degree, both on
+    diagonal pivots in symmetric mode, and with partial pivoting (an exactly zero pivot skips
+    one)."""
+    import scipy.sparse.linalg as spla
+
+    from ._ordering import ordered_lu
+    if perm is not None:
+        try:                                # J's CSR arrays are those of J^T in CSC
+            yield ordered_lu(JT.indptr, JT.indices, JT.data, perm)
+        except RuntimeError:
+            pass
+    symmetric = {"permc_spec": "MMD_AT_PLUS_A", "diag_pivot_thresh": 0.0, "options": {"SymmetricMode": True}}
+    for options in ({},) if perm is not None else (symmetric, {}):
         try:
             lu = spla.splu(JT, **options)
         except RuntimeError:
             continue
-        x = _refined(lambda v: lu.solve(v, trans="T"), J, b, opts.refinement_steps, opts.direction_rtol)
-        if x is not None:
-            return x
+        yield lambda v, lu=lu: lu.solve(v, trans="T")
+
+
+def lm_direction(JT, b, lam: float, eye, opts: NewtonOptions, perm=None):
+    r"""The Levenberg–Marquardt direction :math:`x = \arg\min |J x - b|^2 + \lambda |x|^2`
+    (``J^T`` in CSC, sparse).
+
+    With the contacts' ordering ``perm``: from the quasi-definite augmented system
+
+    .. math:: \begin{pmatrix} I & J \\ J^T & -\lambda I \end{pmatrix}
+              \begin{pmatrix} y \\ x \end{pmatrix} = \begin{pmatrix} b \\ 0 \end{pmatrix}
+
+    (:math:`y = b - J x`, so :math:`(J^T J + \lambda I) x = J^T b`), which has J's pattern
+    where the normal equations have that of :math:`J^T J`. A quasi-definite matrix has an
+    :math:`LDL^T` factorization in every symmetric ordering (Vanderbei, SIAM J. Optim. 5,
+    1995), so diagonal pivots serve; each contact's six unknowns :math:`(y_a, x_a)` are
+    ordered together by ``perm``. Measured on the 3,970-contact pile: 264 ms and 5.6 million
+    entries in the factors, against 1,053 ms and 7.5 million for the normal equations (503 ms
+    in symmetric mode); both satisfy the normal equations to 1e-12 relative. Refined as the
+    LU directions are; where it fails, or without ``perm``, the normal equations
+    :math:`(J^T J + \lambda I)` by SuperLU in symmetric mode.
+    """
+    import scipy.sparse as sp
+    import scipy.sparse.linalg as spla
+
+    from ._ordering import augmented_csr, ordered_lu
+    n = b.size
+    if perm is not None:
+        Jc = JT.tocsr()                     # J's columns, each sorted
+        K = augmented_csr(JT.indptr, JT.indices, JT.data, Jc.indptr, Jc.indices, Jc.data, lam)
+        unknowns = 3 * (perm[0::3] // 3)[:, None] + np.arange(3)
+        perm6 = np.concatenate((unknowns, unknowns + n), axis=1).ravel()
+        rhs = np.concatenate((b, np.zeros(n)))
+        try:
+            solve = ordered_lu(*K, perm6, 0.0, dense_blocks=False)
+            z = _refined(solve, sp.csr_matrix(K[::-1], shape=(2 * n, 2 * n)), rhs, opts.refinement_steps,
+                         opts.direction_rtol)
+            if z is not None:
+                return z[n:]
+        except RuntimeError:
+            pass
     try:
-        A = (JT @ J + lam * eye).tocsc()
-        return spla.splu(A, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0).solve(JT @ b)
+        A = (JT @ JT.T + lam * eye).tocsc()
+        return spla.splu(A, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+                         options={"SymmetricMode": True}).solve(JT @ b)
     except RuntimeError:
         return b
 
@@ -110,8 +168,10 @@ def newton_steps(fr: _Frame, W, q, r, rho, stop, max_iter: int, on_iter, opts: N
     import scipy.sparse as sp
 
     from . import _kernels as K
+    from ._ordering import frame_ordering
     n = 3 * fr.nc
     eye = sp.identity(n, format="csc")
+    perm = frame_ordering(fr) if n > opts.dense_max else None
     Wp, Wi = W.indptr.astype(np.int32), W.indices.astype(np.int32)
     u = W @ r + q
     phi, B1, B2 = K.alart_curnier(r, u, fr.mu, fr.d, rho)
@@ -125,7 +185,7 @@ def newton_steps(fr: _Frame, W, q, r, rho, stop, max_iter: int, on_iter, opts: N
         # the CSR arrays of J are the CSC arrays of J^T: factorize J^T, solve with trans="T"
         JT = sp.csc_matrix((jdat, jind, jptr), shape=(n, n))
         JT.has_sorted_indices = True
-        dx = newton_direction(JT, -phi, eye, opts, lm)
+        dx = newton_direction(JT, -phi, eye, opts, lm, perm)
         reference = max(merits[-opts.nonmonotone_memory:])
         alpha, accepted = 1.0, False
         while alpha > opts.min_step:

@@ -12,8 +12,8 @@ step lowers it or when the error has not contracted by ``PolishOptions.contracti
 go on) or the problem with that active set has no solution to that precision.
 
 An iteration costs one sparse LU of :math:`J = B_1 + B_2 W` (the sparsity of W with its
-diagonal blocks: symmetric minimum-degree ordering of :math:`J + J^T`, diagonal pivots in
-symmetric mode) and O(nnz(W)) besides. J is singular where W is (more contact unknowns than
+diagonal blocks: the contacts' minimum-degree ordering, :func:`._ordering.frame_ordering`,
+diagonal pivots in symmetric mode) and O(nnz(W)) besides. J is singular where W is (more contact unknowns than
 the bodies' degrees of freedom) and contacts stick; there the direction solves the
 consistent singular system by iterated Lavrentiev regularization, :math:`(J + \sigma I)
 \delta_{k+1} = b - J\delta_k + \sigma\delta_k`, which leaves the null-space components of the
@@ -30,9 +30,18 @@ from ._frame import _Frame, _Monitor
 from ._options import PolishOptions
 
 
-def _lu(A, dense: bool):
-    """A solver of ``A x = b`` from one LU (LAPACK dense, or SuperLU in symmetric mode), or
-    None when A is singular to working precision."""
+def _lu(J, sigma: float, dense: bool, perm=None):
+    """A solver of ``(J + sigma I) x = b`` (J in CSR) from one LU (LAPACK dense, or SuperLU on
+    diagonal pivots in symmetric mode, after the contacts' ordering ``perm`` when given), or
+    None when the matrix is singular to working precision."""
+    import scipy.sparse as sp
+    if perm is not None and not dense:
+        from ._ordering import ordered_lu
+        try:
+            return ordered_lu(J.indptr, J.indices, J.data, perm, sigma)
+        except RuntimeError:    # an exactly zero pivot
+            return None
+    A = J + sigma * sp.identity(J.shape[0], format="csr") if sigma else J
     if dense:
         import scipy.linalg as sla
         Ad = A.toarray()
@@ -51,9 +60,10 @@ def _lu(A, dense: bool):
     return lu.solve
 
 
-def polish_direction(J, b, opts: PolishOptions, rtol: float | None = None):
+def polish_direction(J, b, opts: PolishOptions, rtol: float | None = None, perm=None):
     r"""A Newton direction ``x`` with :math:`|J x - b| \le` ``rtol`` :math:`|b|` (J in CSR;
-    ``rtol`` defaults to ``opts.direction_rtol``).
+    ``rtol`` defaults to ``opts.direction_rtol``; ``perm``: the contacts' ordering,
+    :func:`._ordering.frame_ordering`, for the sparse LU).
 
     Iterated Lavrentiev regularization: one LU of :math:`J + \sigma I`, :math:`\sigma = `
     ``opts.regularization`` :math:`\max|J_{ii}|`, and up to ``opts.refinement_steps`` steps
@@ -65,7 +75,6 @@ def polish_direction(J, b, opts: PolishOptions, rtol: float | None = None):
     local_problem_test from 5e-5, this one reaches 1e-14 in three steps). Returns
     ``(x, relative residual)``.
     """
-    import scipy.sparse as sp
     n = b.size
     norm_b = float(np.linalg.norm(b))
     rtol = opts.direction_rtol if rtol is None else rtol
@@ -75,7 +84,7 @@ def polish_direction(J, b, opts: PolishOptions, rtol: float | None = None):
     best, best_res = np.zeros(n), 1.0
     sigma = opts.regularization * float(np.max(np.abs(J.diagonal())) or 1.0)
     for sigma in (sigma, 1e3 * sigma):
-        solve = _lu(J + sigma * sp.identity(n, format="csr") if sigma else J, dense)
+        solve = _lu(J, sigma, dense, perm)
         if solve is None:
             continue
         x, last = np.zeros(n), np.inf
@@ -100,8 +109,10 @@ def run_polish(fr: _Frame, r, max_iter: int, mon: _Monitor, opts: PolishOptions)
     import scipy.sparse as sp
 
     from . import _kernels as K
+    from ._ordering import frame_ordering
     W, q = fr.W, fr.q
     n = q.size
+    perm = frame_ordering(fr) if n > opts.dense_max else None
     rho = fr.rho()
     Wp, Wi = fr.csr[0], fr.csr[1]
     r = np.array(r, dtype=float)
@@ -116,7 +127,7 @@ def run_polish(fr: _Frame, r, max_iter: int, mon: _Monitor, opts: PolishOptions)
         jptr, jind, jdat = K.jacobian_csr(Wp, Wi, W.data, B1, B2)
         J = sp.csr_matrix((jdat, jind, jptr), shape=(n, n))
         # an inexact Newton direction: a residual of the order of the error squared keeps the rate
-        dx, _res = polish_direction(J, -phi, opts, max(opts.direction_rtol, min(1e-6, err * err)))
+        dx, _res = polish_direction(J, -phi, opts, max(opts.direction_rtol, min(1e-6, err * err)), perm)
         alpha = 1.0
         for _ in range(opts.max_halvings + 1):
             rn = r + alpha * dx
