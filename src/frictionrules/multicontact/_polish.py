@@ -13,9 +13,9 @@ go on) or the problem with that active set has no solution to that precision.
 
 An iteration costs one sparse LU of :math:`J = B_1 + B_2 W` (the sparsity of W with its
 diagonal blocks: the contacts' minimum-degree ordering, :func:`._ordering.frame_ordering`,
-diagonal pivots in symmetric mode) and O(nnz(W)) besides. J is singular where W is (more contact unknowns than
-the bodies' degrees of freedom) and contacts stick; there the direction solves the
-consistent singular system by iterated Lavrentiev regularization, :math:`(J + \sigma I)
+diagonal pivots in symmetric mode) and O(nnz(W)) besides. J is singular where W is (more
+contact unknowns than the bodies' degrees of freedom) and contacts stick; there the direction
+solves the consistent singular system by iterated Lavrentiev regularization, :math:`(J + \sigma I)
 \delta_{k+1} = b - J\delta_k + \sigma\delta_k`, which leaves the null-space components of the
 step at zero.
 """
