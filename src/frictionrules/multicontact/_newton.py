@@ -40,12 +40,13 @@ def newton_direction(JT, b, eye, opts: NewtonOptions, lm: bool = False, perm=Non
     ``lm=False``: by LU with iterative refinement. Up to ``opts.dense_max`` unknowns, or when
     J is denser than ``opts.dense_fill``, LAPACK's dense LU (SuperLU's set-up costs more
     there); otherwise SuperLU on diagonal pivots in symmetric mode (J has the symmetric
-    sparsity of W plus its diagonal, nonzero in every contact state), first after the contacts'
-    minimum-degree ordering ``perm`` (:func:`._ordering.frame_ordering`), then after SuperLU's
-    symmetric minimum degree of the unknowns, then with partial pivoting; each is tried only
-    when the one before fails. (Measured over 40 iterations on the 1,812-contact sphere pile:
-    the contacts' ordering 16.5 ms a factorization, SuperLU's 18.1, partial pivoting 43.2; on
-    the 3,970 pile the first succeeded in 8 iterations, the second in none.) A solve counts
+    sparsity of W plus its diagonal, nonzero in every contact state) after the contacts'
+    minimum-degree ordering ``perm`` (:func:`._ordering.frame_ordering`; without it, after
+    SuperLU's symmetric minimum degree of the unknowns), then with partial pivoting, tried only
+    when the first fails. (Measured over 40 iterations on the 1,812-contact sphere pile: the
+    contacts' ordering 16.5 ms a factorization, SuperLU's symmetric one 18.1, partial pivoting
+    43.2; on the 3,970 pile the first succeeded in 8 iterations, the second in none, so it is
+    not tried after the first.) A solve counts
     when its refined residual is within ``opts.direction_rtol |b|`` (refinement recovers the
     digits an ill-conditioned J loses: without it, the pile's directions failed at 2.5e-10 and
     fell back to the slow Levenberg–Marquardt system). When none does (J singular), or with
@@ -88,10 +89,10 @@ def newton_direction(JT, b, eye, opts: NewtonOptions, lm: bool = False, perm=Non
 
 
 def _sparse_lus(JT, perm):
-    """Solvers of ``J x = b`` (``J^T`` in CSC), each factorized only when asked for: after the
-    contacts' ordering (when ``perm``), after SuperLU's symmetric minimum degree, both on
-    diagonal pivots in symmetric mode, and with partial pivoting (an exactly zero pivot skips
-    one)."""
+    """Solvers of ``J x = b`` (``J^T`` in CSC), each factorized only when asked for: on
+    diagonal pivots in symmetric mode after the contacts' ordering ``perm`` (or, without it,
+    SuperLU's symmetric minimum degree), then with partial pivoting (an exactly zero pivot
+    skips one)."""
     import scipy.sparse.linalg as spla
 
     from ._ordering import ordered_lu
