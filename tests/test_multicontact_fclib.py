@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from frictionrules import read_fclib, solve
+from frictionrules import FrictionContactProblem, read_fclib, solve
 from test_io import FCLIB, needs_fclib
 from test_multicontact import cone_violation
 
@@ -18,7 +18,7 @@ BEST = {
     "local_problem_test.hdf5": "prox",
     "LMGC_100_PR_PerioBox-i00361-60-03000.hdf5": "nsgs",
     "Box_Stacks-i0122-82-5.hdf5": "nsgs",
-    "spheres-in-a-box-98-i10000-256-10.hdf5": "newton",
+    "spheres-in-a-box-98-i10000-256-10.hdf5": "prox",
     "Capsules-i125-1213.hdf5": "prox",
     "Spheres-i099-356-679.hdf5": "newton",
     "KaplasTower-i1061-4.hdf5": "prox",
@@ -45,16 +45,34 @@ def test_fclib_file_solved_to_1e_8_with_cone_conditions(name):
 
 
 @needs_fclib
-@pytest.mark.parametrize("name", ["LMGC_100_PR_PerioBox-i00361-60-03000.hdf5", "local_problem_test.hdf5"])
-def test_newton_converges_where_w_is_rank_deficient(name):
-    """W is rank-deficient on these files, so J is singular wherever contacts stick: Newton
-    directions alone stagnate (4e-2 after 300 iterations on PerioBox); the Levenberg–Marquardt
-    directions taken while it stalls bring it to 1e-8."""
-    p = read_fclib(FCLIB / name)
+def test_newton_converges_where_w_is_rank_deficient():
+    """W is rank-deficient on PerioBox, so J is singular wherever contacts stick: Newton
+    directions alone stagnate (4e-2 after 300 iterations); the Levenberg–Marquardt directions
+    taken while it stalls bring it to 1e-8 (72-195 of its 200 iterations over 24 perturbations
+    of W and q by 1e-15). Newton alone is not globally convergent there: on local_problem_test
+    two of sixteen such perturbations stall at 1.4e-2 (docs/multicontact.md), so that file is
+    left to the methods of the test below."""
+    p = read_fclib(FCLIB / "LMGC_100_PR_PerioBox-i00361-60-03000.hdf5")
     s = solve(p, method="newton", tol=1e-8)
     assert s.converged and s.error <= 1e-8
     scale = max(np.linalg.norm(p.q), np.linalg.norm(s.r), np.linalg.norm(s.u))
     assert cone_violation(p.mu_bar, s.r, s.u, scale_r=scale, scale_u=scale) < 1e-7
+
+
+@needs_fclib
+@pytest.mark.parametrize("method", ["prox", "admm", "auto"])
+def test_rank_deficient_file_converges_under_round_off(method):
+    """Round-off must not decide convergence: W's entries and q perturbed by 1e-15 (relative;
+    eight draws) give the same answer to 1e-8 by ``prox``, ``admm`` and ``auto`` on
+    local_problem_test, where Newton alone stalls on some draws."""
+    p = read_fclib(FCLIB / "local_problem_test.hdf5")
+    for seed in range(8):
+        rng = np.random.default_rng(seed)
+        W = p.W.copy()
+        W.data = W.data * (1 + 1e-15 * rng.normal(size=W.data.size))
+        q = p.q * (1 + 1e-15 * rng.normal(size=p.q.size))
+        s = solve(FrictionContactProblem(W, q, p.mu_bar), method=method, tol=1e-8)
+        assert s.converged and s.error <= 1e-8, (seed, s.iterations, s.error)
 
 
 #: Files ADMM brings to 1e-8 within its default 5000 iterations (not spheres-in-a-box, where it
