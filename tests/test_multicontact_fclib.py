@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from frictionrules import FrictionContactProblem, read_fclib, solve
+from frictionrules import FrictionContactProblem, FrictionRulesError, NewtonOptions, read_fclib, solve
 from test_io import FCLIB, needs_fclib
 from test_multicontact import cone_violation
 
@@ -90,3 +90,26 @@ def test_auto_and_admm_reach_1e_8_with_cone_conditions(method, name):
     assert s.converged and s.reason == "converged" and s.error <= 1e-8
     scale = max(np.linalg.norm(p.q), np.linalg.norm(s.r), np.linalg.norm(s.u))
     assert cone_violation(p.mu_bar, s.r, s.u, scale_r=scale, scale_u=scale) < 1e-7
+
+
+@needs_fclib
+def test_newton_restarts_with_sweeps_where_its_error_stalls():
+    """A stall of Siconos' error (here: not halved over one iteration, on PerioBox, where
+    Newton needs about a hundred) brings Gauss–Seidel sweeps, recorded as ``"nsgs"`` and
+    counted in the iterations; with no sweeps asked for, none run."""
+    p = read_fclib(FCLIB / "LMGC_100_PR_PerioBox-i00361-60-03000.hdf5")
+    for sweeps in (2, 0):
+        seen = []
+        s = solve(p, method="newton", tol=1e-8, max_iter=60, callback=lambda info: seen.append(info) and False,
+                  options=NewtonOptions(restart_stall=1, restart_sweeps=sweeps))
+        methods = {info.method for info in seen}
+        assert methods == ({"newton", "nsgs"} if sweeps else {"newton"})
+        its = [info.iteration for info in seen]
+        assert its == sorted(set(its)) and its[-1] == s.iterations <= 60
+
+
+def test_newton_restart_options_are_checked():
+    with pytest.raises(FrictionRulesError, match="restart_stall"):
+        NewtonOptions(restart_stall=0)
+    with pytest.raises(FrictionRulesError, match="restart_sweeps"):
+        NewtonOptions(restart_sweeps=-1)

@@ -76,6 +76,10 @@ class NewtonOptions:
     armijo, min_step, nonmonotone_memory : float, float, int
         Sufficient decrease, smallest step and memory of the non-monotone line search on
         :math:`\tfrac12|\Phi|^2`.
+    restart_stall, restart_sweeps : int, int
+        ``method="newton"``: when Siconos' error has not halved over ``restart_stall``
+        iterations, ``restart_sweeps`` Gauss–Seidel sweeps (counted as iterations), then
+        Newton again; 0 sweeps: never.
     """
 
     dense_max: int = 400
@@ -87,10 +91,13 @@ class NewtonOptions:
     armijo: float = 2e-4
     min_step: float = 1e-8
     nonmonotone_memory: int = 10
+    restart_stall: int = 40
+    restart_sweeps: int = 5
 
     def __post_init__(self):
         _check(self, positive=("lm_weight", "direction_rtol", "min_step"), fractions=("dense_fill", "armijo"),
-               integers=("dense_max", "refinement_steps", "stall_iterations"), counts=("nonmonotone_memory",))
+               integers=("dense_max", "refinement_steps", "stall_iterations", "restart_sweeps"),
+               counts=("nonmonotone_memory", "restart_stall"))
 
 
 @dataclass(frozen=True)
