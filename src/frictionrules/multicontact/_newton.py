@@ -225,8 +225,8 @@ def run_newton(fr: _Frame, r, max_iter: int, mon: _Monitor, opts: NewtonOptions)
     (relative, sixteen draws each), the draws that did not reach 1e-8 in 200 iterations:
     Capsules 11 without the sweeps and 1 with them, local_problem_test 2 and 1,
     spheres-in-a-box 1 and 1, Box_Stacks 1 and 0; PerioBox's slowest draw took 165
-    iterations instead of 195. (A change of
-    :math:`\rho` instead, up or down, at the same stalls did not do it.)
+    iterations instead of 195. (A change of :math:`\rho` instead, up or down, at the same
+    stalls did not do it.)
     """
     from ._nsgs import run_nsgs
     from ._options import NSGSOptions
