@@ -137,7 +137,7 @@ def lm_direction(JT, b, lam: float, eye, opts: NewtonOptions, perm=None):
     if perm is not None:
         Jc = JT.tocsr()                     # J's columns, each sorted
         K = augmented_csr(JT.indptr, JT.indices, JT.data, Jc.indptr, Jc.indices, Jc.data, lam)
-        unknowns = 3 * (perm[0::3] // 3)[:, None] + np.arange(3)
+        unknowns = perm.reshape(-1, 3)      # each contact's three, in order
         perm6 = np.concatenate((unknowns, unknowns + n), axis=1).ravel()
         rhs = np.concatenate((b, np.zeros(n)))
         try:

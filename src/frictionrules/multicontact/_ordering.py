@@ -420,8 +420,8 @@ def augmented_csr(jptr, jind, jdat, tptr, tind, tdat, lam):
 
 def shifted_permuted_csc(indptr, indices, data, perm, c: float, dense_blocks=None):
     r"""The CSC arrays (row indices sorted) of :math:`B = P (A + cI) P^T`,
-    :math:`B_{ij} = A_{p_i p_j} + c\,\delta_{ij}`, from the CSR arrays of A (3 nc x 3 nc, each
-    row sorted); a diagonal entry that A does not store is inserted.
+    :math:`B_{ij} = A_{p_i p_j} + c\,\delta_{ij}`, from the CSR arrays of A (square, each row
+    sorted); a diagonal entry that A does not store is inserted.
 
     When ``perm`` keeps each contact's three unknowns together and in order and A is made of
     whole 3 x 3 blocks (a Delassus operator is; ``dense_blocks``: :func:`_dense_blocks` when
@@ -450,9 +450,10 @@ def frame_ordering(fr):
 
 def ordered_lu(indptr, indices, data, perm, c: float = 0.0, dense_blocks=None):
     r"""A solver of :math:`(A + cI) x = b` (b a vector or the columns of an array) from one
-    SuperLU factorization of :math:`P (A + cI) P^T` (A's CSR arrays, rows sorted; ``perm`` as
-    :func:`contact_ordering` gives it), on diagonal pivots in symmetric mode: no pivoting, so
-    the fill is the ordering's. Raises ``RuntimeError`` where a pivot is exactly zero; a tiny
+    SuperLU factorization of :math:`P (A + cI) P^T` (A's CSR arrays, rows sorted; ``perm`` a
+    permutation of A's unknowns, moved by whole 3 x 3 blocks where it keeps contacts' three
+    unknowns together as :func:`contact_ordering`'s does, see :func:`shifted_permuted_csc`), on
+    diagonal pivots in symmetric mode: no pivoting, so the fill is the ordering's. Raises ``RuntimeError`` where a pivot is exactly zero; a tiny
     one costs digits, which the caller measures (by a residual) and refines.
     """
     import scipy.sparse as sp
