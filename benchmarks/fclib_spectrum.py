@@ -42,15 +42,15 @@ def symmetric(W) -> bool:
     return W.nnz == 0 or abs(W - W.T).max() <= 1e-12 * abs(W).max()
 
 
-def bottom(W):
-    """``(values, vectors, largest, kind)``: the bottom of the spectrum of the sparse ``W``,
-    ascending."""
+def bottom(W, sym: bool):
+    """``(values, vectors, largest, kind)``: the bottom of the spectrum of the sparse ``W``
+    (``sym``: whether it is symmetric), ascending."""
     import scipy.linalg as sl
     import scipy.sparse.linalg as spla
-    if symmetric(W):
-        sym = (W + W.T) * 0.5
-        largest = float(spla.eigsh(sym, k=1, which="LA")[0][0])
-        values, vectors = sl.eigh(sym.toarray(), subset_by_value=[-np.inf, BOTTOM * largest], driver="evr",
+    if sym:
+        half = (W + W.T) * 0.5
+        largest = float(spla.eigsh(half, k=1, which="LA")[0][0])
+        values, vectors = sl.eigh(half.toarray(), subset_by_value=[-np.inf, BOTTOM * largest], driver="evr",
                                   overwrite_a=True)
         return np.abs(values), vectors, largest, "eigenvalues"
     U, s, _ = sl.svd(W.toarray(), overwrite_a=True)
@@ -78,11 +78,12 @@ def main(argv=None) -> int:
             continue
         p = read_fclib(f)
         W = p.W.tocsr()
-        if not symmetric(W) and W.shape[0] > SVD_MAX_UNKNOWNS:
+        sym = symmetric(W)
+        if not sym and W.shape[0] > SVD_MAX_UNKNOWNS:
             print(f"{f.name}: nonsymmetric with {W.shape[0]} unknowns (> {SVD_MAX_UNKNOWNS}), skipped", flush=True)
             continue
         t0 = time.perf_counter()
-        values, vectors, largest, kind = bottom(W)
+        values, vectors, largest, kind = bottom(W, sym)
         q = p.q
         null = values < NULL * largest
         row = [f.stem, W.shape[0], kind, f"{largest:.3g}", f"{np.linalg.norm(q):.3g}", int(null.sum()),
