@@ -13,7 +13,7 @@ their span). The null space is taken below 1e-12 of the largest value. The table
 dimension and q's projection on it, and, for each fraction, the directions beyond it below
 that fraction of the largest value, with the norm of q's projection on them. The reactions
 that would hold such a component with every contact sticking grow as the component over the
-value; docs/multicontact.md ("Why the piles stall") reads the table. Writes
+value; docs/multicontact.md ("The bottom of W's spectrum on the piles") reads the table. Writes
 ``benchmarks/results/fclib_spectrum.md``.
 """
 
