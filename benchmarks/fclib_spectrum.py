@@ -44,7 +44,8 @@ def symmetric(W) -> bool:
 
 def bottom(W, sym: bool):
     """``(values, vectors, largest, kind)``: the bottom of the spectrum of the sparse ``W``
-    (``sym``: whether it is symmetric), ascending."""
+    (``sym``: whether it is symmetric). ``values`` are magnitudes (a null eigenvalue comes out
+    of ``eigh`` as a round-off of either sign), not sorted; ``vectors`` their columns."""
     import scipy.linalg as sl
     import scipy.sparse.linalg as spla
     if sym:
