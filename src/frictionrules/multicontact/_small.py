@@ -191,16 +191,24 @@ def small_solve(indptr, indices, data, q, mu, dil, r, u, h_err, h_it, tol, max_i
 
 
 @njit(cache=True)
-def solve_into(indptr, indices, data, q, mu, dil, r, u, h_err, h_it, tol, max_iter, mode, contraction, patience,
+def solve_into(indptr, indices, data, q, mu, dil, r0, out, h_it, tol, max_iter, mode, contraction, patience,
                max_halvings, r_bound_factor):
-    """:func:`small_solve` returning numbers only: ``(iterations, error, bounded, stages, history
-    length)`` (an array returned from compiled code costs 0.27 µs to box, a tenth of a tiny
-    solve). The history is in ``h_err``, ``h_it`` when its length is at most their size; a
-    longer one is lost, and the same call with buffers of at least ``length +`` :data:`CHUNK`
-    entries (and ``r`` as it was) gives the same answer with the whole history."""
-    it, err, bounded, ns, nh, _he, _hi = small_solve(indptr, indices, data, q, mu, dil, r, u, h_err, h_it, tol,
-                                                     max_iter, mode, contraction, patience, max_halvings,
-                                                     r_bound_factor)
+    """:func:`small_solve` from ``r0`` (zero where it is empty) into one buffer, returning
+    numbers only: ``(iterations, error, bounded, stages, history length)``. ``out`` receives
+    ``r``, then ``u``, then the errors of the history, whose iterations go to ``h_it``. A
+    Python call of a compiled function pays for each argument (about 40 ns for an array) and
+    for each array it returns (0.27 µs to box), and NumPy about 0.15 µs for each array it
+    allocates, a tenth of a tiny solve each: hence one buffer, and numbers out. A history
+    longer than ``h_it`` is lost; the same call with room for at least ``length +``
+    :data:`CHUNK` entries gives the same answer with the whole history."""
+    n = q.size
+    if r0.size:
+        out[:n] = r0
+    else:
+        out[:n] = 0.0
+    it, err, bounded, ns, nh, _he, _hi = small_solve(indptr, indices, data, q, mu, dil, out[:n], out[n:2 * n],
+                                                     out[2 * n:], h_it, tol, max_iter, mode, contraction, patience,
+                                                     max_halvings, r_bound_factor)
     return it, err, bounded, ns, nh
 
 
@@ -281,6 +289,9 @@ def reason(method: str, bounded: bool, err: float, tol: float, it: int, max_iter
     return "stalled" if method == "polish" and it < max_iter else "max_iter"
 
 
+_empty, _int64, _clock, _NO_R0 = np.empty, np.int64, time.perf_counter, np.empty(0)
+
+
 def solve_small(problem, method: str, tol: float, max_iter: int, r0, polish, t0: float) -> Solution:
     """:func:`~frictionrules.solve` on the small path (arguments checked; ``polish``: the
     :class:`PolishOptions` of ``method="polish"`` or None; ``t0``: the call's start on
@@ -291,29 +302,26 @@ def solve_small(problem, method: str, tol: float, max_iter: int, r0, polish, t0:
     through another module's attribute, each was 20 ns of a 4 µs call.)"""
     W = problem.W
     n = 3 * problem.nc
-    if r0 is None:
-        r = np.zeros(n)
-    else:
-        r = check_finite("r0", r0).ravel().astype(float)
-        if r.size != n:
-            raise FrictionRulesError(f"r0 has {r.size} entries; constraint: 3 nc = {n}")
-    u = np.empty(n)
     if polish is None or method != "polish":
         polish = POLISH_DEFAULTS
+    if r0 is not None:
+        r0 = check_finite("r0", r0).ravel().astype(float)
+        if r0.size != n:
+            raise FrictionRulesError(f"r0 has {r0.size} entries; constraint: 3 nc = {n}")
+    else:
+        r0 = _NO_R0
     mode = MODES[method]
-    r_start = None if r0 is None else r.copy()
     size = HISTORY
     while True:
-        h_err, h_it = np.empty(size), np.empty(size, np.int64)
+        out, h_it = _empty(2 * n + size), _empty(size, _int64)
         it, err, bounded, stages, nh = solve_into(W.indptr, W.indices, W.data, problem.q, problem.mu_bar,
-                                                  problem.dilatancy, r, u, h_err, h_it, tol, max_iter, mode,
+                                                  problem.dilatancy, r0, out, h_it, tol, max_iter, mode,
                                                   polish.contraction, polish.patience, polish.max_halvings,
                                                   UNBOUNDED)
         if nh <= size:
             break
         size = nh + CHUNK           # a history longer than the buffers: the same run with room for it
-        r = np.zeros(n) if r_start is None else r_start.copy()
     why = reason(method, bounded, err, tol, it, max_iter)
-    seconds = time.perf_counter() - t0
-    return Solution._record(r, u, err, it, why == "converged", h_err[:nh], h_it[:nh], STAGE_NAMES[mode][stages],
-                            seconds, why, seconds)
+    seconds = _clock() - t0
+    return Solution._record(out[:n], out[n:2 * n], err, it, why == "converged", out[2 * n:2 * n + nh], h_it[:nh],
+                            STAGE_NAMES[mode][stages], seconds, why, seconds)
