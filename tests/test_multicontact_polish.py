@@ -239,22 +239,42 @@ def test_small_path_agrees_with_the_general_path(method):
     assert small.history.size and small.history[-1] == pytest.approx(small.error, rel=1e-9, abs=1e-300)
 
 
-def test_small_path_keeps_a_history_longer_than_its_buffers():
+@pytest.mark.parametrize("warm", [False, True])
+def test_small_path_keeps_a_history_longer_than_its_buffers(warm):
     """A small-path run whose history outgrows the buffers allocated per call (one chunk of
-    sweeps) is run again with room for it: the whole history, consistent with the answer,
-    and the reactions of the general path (the same sweeps)."""
+    sweeps) is run again with room for it, from the same start: the whole history,
+    consistent with the answer, and the reactions of the general path (the same sweeps)."""
     from frictionrules.multicontact import _small
     rng = np.random.default_rng(3)
     nc = 12
     A = rng.normal(size=(3 * nc, 3 * nc - 6))
     p = FrictionContactProblem(A @ A.T / (3 * nc) + 1e-9 * np.eye(3 * nc), rng.normal(size=3 * nc),
                                rng.uniform(0.1, 0.9, nc))
-    s = solve(p, method="nsgs", tol=1e-300, max_iter=2000)
-    general = solve(p, method="nsgs", tol=1e-300, max_iter=2000, time_limit=1e3)
+    r0 = np.tile([0.1, 0.0, 0.0], nc) if warm else None
+    s = solve(p, method="nsgs", tol=1e-300, max_iter=2000, r0=r0)
+    general = solve(p, method="nsgs", tol=1e-300, max_iter=2000, r0=r0, time_limit=1e3)
     assert s.history.size > _small.HISTORY and s.iterations == 2000 and s.reason == "max_iter"
     assert np.all(np.diff(s.history_iterations) > 0) and s.history_iterations[-1] == s.iterations
     assert s.history[-1] == s.error
     np.testing.assert_allclose(s.r, general.r, rtol=0.0, atol=1e-12 * np.abs(general.r).max())
+
+
+def test_small_path_reads_the_initial_reactions_without_writing_them():
+    """The small path copies ``r0`` into its compiled call's buffer: the caller's array is
+    left as it was, and a read-only one gives the same answer without compiling another
+    signature of the call."""
+    from frictionrules.multicontact import _small
+    p, r_star = known_active_set(2)
+    r0 = r_star + 1e-3
+    frozen = r0.copy()
+    frozen.flags.writeable = False
+    a = solve(p, method="polish", tol=1e-12, r0=r0)
+    signatures = len(_small.solve_into.signatures)
+    b = solve(p, method="polish", tol=1e-12, r0=frozen)
+    assert len(_small.solve_into.signatures) == signatures
+    np.testing.assert_array_equal(a.r, b.r)
+    np.testing.assert_array_equal(r0, r_star + 1e-3)
+    assert a.converged
 
 
 def test_small_path_reports_its_wall_time_as_cpu_time():

@@ -305,6 +305,8 @@ def solve_small(problem, method: str, tol: float, max_iter: int, r0, polish, t0:
     if polish is None or method != "polish":
         polish = POLISH_DEFAULTS
     if r0 is not None:
+        # a copy, though only read: one compiled signature whether the caller's array is
+        # read-only or unaligned (each is another type to Numba)
         r0 = check_finite("r0", r0).ravel().astype(float)
         if r0.size != n:
             raise FrictionRulesError(f"r0 has {r0.size} entries; constraint: 3 nc = {n}")
