@@ -12,6 +12,7 @@ import time
 
 import numpy as np
 
+from ..errors import FrictionRulesError, check_finite
 from .problem import FrictionContactProblem
 
 #: Why a run stopped (``Solution.reason``); only ``"converged"`` means converged.
@@ -25,6 +26,16 @@ UNBOUNDED = 1e6
 
 #: Errors over which :meth:`_Monitor.predicted` measures a stage's linear rate.
 RATE_POINTS = 4
+
+
+def initial_reactions(r0, n: int) -> np.ndarray:
+    """The argument ``r0`` of a solve with ``n`` unknowns, checked (finite, ``n`` entries), as
+    an array of its own: a solver may write it, and a compiled call sees one type whether the
+    caller's array is read-only or unaligned (each is another type to Numba)."""
+    r = check_finite("r0", r0).ravel().astype(float)
+    if r.size != n:
+        raise FrictionRulesError(f"r0 has {r.size} entries; constraint: 3 nc = {n}")
+    return r
 
 
 def norm(x) -> float:

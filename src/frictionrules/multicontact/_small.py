@@ -19,9 +19,8 @@ import time
 import numpy as np
 
 from .._optional import require
-from ..errors import FrictionRulesError, check_finite
 from . import _kernels as K
-from ._frame import UNBOUNDED
+from ._frame import UNBOUNDED, initial_reactions
 from ._options import PolishOptions
 from .problem import Solution
 
@@ -304,14 +303,7 @@ def solve_small(problem, method: str, tol: float, max_iter: int, r0, polish, t0:
     n = 3 * problem.nc
     if polish is None or method != "polish":
         polish = POLISH_DEFAULTS
-    if r0 is not None:
-        # a copy, though only read: one compiled signature whether the caller's array is
-        # read-only or unaligned (each is another type to Numba)
-        r0 = check_finite("r0", r0).ravel().astype(float)
-        if r0.size != n:
-            raise FrictionRulesError(f"r0 has {r0.size} entries; constraint: 3 nc = {n}")
-    else:
-        r0 = _NO_R0
+    r0 = _NO_R0 if r0 is None else initial_reactions(r0, n)
     mode = MODES[method]
     size = HISTORY
     while True:

@@ -29,8 +29,8 @@ import time
 
 import numpy as np
 
-from ..errors import FrictionRulesError, check_finite, check_scalar
-from ._frame import _Frame, _Monitor
+from ..errors import FrictionRulesError, check_scalar
+from ._frame import _Frame, _Monitor, initial_reactions
 from ._admm import all_stick
 from ._methods import METHODS, check_method, options_for
 from .problem import FrictionContactProblem, Solution
@@ -77,9 +77,7 @@ def _initial(problem, fr: _Frame, r0):
     n = 3 * problem.nc
     if r0 is None:
         return np.zeros(n)
-    r = check_finite("r0", r0).ravel().astype(float)
-    if r.size != n:
-        raise FrictionRulesError(f"r0 has {r.size} entries; constraint: 3 nc = {n}")
+    r = initial_reactions(r0, n)
     if fr.P is not None:
         import scipy.sparse.linalg as spla
         r = spla.spsolve(fr.P.tocsc(), r)
