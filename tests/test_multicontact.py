@@ -382,6 +382,7 @@ def test_cli_solve_folder_reports_a_bad_file_and_goes_on(tmp_path, capsys):
 def test_options_records_are_validated_and_must_match_the_method():
     from frictionrules import ADMMOptions, NewtonOptions, NSGSOptions, ProxOptions
     for bad, match in [(lambda: ADMMOptions(eta=-1.0), "eta"), (lambda: ADMMOptions(anderson=-2), "anderson"),
+                       (lambda: ADMMOptions(anderson_pause=-1), "anderson_pause"),
                        (lambda: NewtonOptions(armijo=2.0), "armijo"), (lambda: ProxOptions(grow=0.5), "grow"),
                        (lambda: NSGSOptions(max_check_interval=0), "max_check_interval"),
                        (lambda: ProxOptions(newton=3), "newton")]:

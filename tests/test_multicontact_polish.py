@@ -120,15 +120,17 @@ def test_polish_stalls_honestly_far_from_the_solution():
 
 
 @needs_fclib
-@pytest.mark.parametrize("name", ["Box_Stacks-i0122-82-5.hdf5", "local_problem_test.hdf5",
-                                  "Spheres-i099-356-679.hdf5", "KaplasTower-i1061-4.hdf5"])
-def test_polish_finishes_an_admm_iterate_on_shared_files(name):
-    """ADMM to 1e-5, then the polish to 1e-10; the cone conditions checked directly on (r, u)
-    at the error's scale, independently of the solver and of the error measure. (At 1e-4 the
-    active set of local_problem_test has not settled under the all-stick penalty: the polish
-    halves its error a step and stops.)"""
+@pytest.mark.parametrize("name, admm_tol", [("Box_Stacks-i0122-82-5.hdf5", 1e-5), ("local_problem_test.hdf5", 1e-6),
+                                            ("Spheres-i099-356-679.hdf5", 1e-5), ("KaplasTower-i1061-4.hdf5", 1e-5)])
+def test_polish_finishes_an_admm_iterate_on_shared_files(name, admm_tol):
+    """ADMM to ``admm_tol``, then the polish to 1e-10; the cone conditions checked directly on
+    (r, u) at the error's scale, independently of the solver and of the error measure. (On
+    local_problem_test, under the all-stick penalty, ADMM reaches 1e-5 in 36 iterations before
+    its active set has settled: from there the polish halves its error a step and stops; from
+    1e-6, 93 iterations, it finishes in one step, on each of 16 draws of W and q perturbed by
+    1e-15, as on the other three files from 1e-5.)"""
     p = read_fclib(FCLIB / name)
-    first = solve(p, method="admm", tol=1e-5)
+    first = solve(p, method="admm", tol=admm_tol)
     s = solve(p, method="polish", r0=first.r, tol=1e-10)
     assert s.converged and s.error <= 1e-10 and s.iterations <= 10
     assert fc3d_error(p, s.r) == pytest.approx(s.error, rel=1e-6, abs=1e-16)

@@ -21,7 +21,8 @@ velocity (from the projected :math:`q`, random all-stick problems took 70 iterat
 the small :math:`\rho` instead of 3: a small penalty moves the dual variable slowly). It is raised or lowered when the primal and dual residuals are out of
 balance. Anderson acceleration (type II, memory ``ADMMOptions.anderson``) extrapolates the
 fixed-point map on :math:`(y, z)`; an extrapolated step is dropped, and the memory cleared,
-when the next residual is larger than the last plain one.
+when the next residual is larger than the last plain one; plain steps then run alone for
+``ADMMOptions.anderson_pause`` iterations.
 """
 
 from __future__ import annotations
@@ -231,7 +232,7 @@ def run_admm(fr: _Frame, r, max_iter: int, mon: _Monitor, opts: ADMMOptions):
     anderson = _Anderson(opts.anderson) if opts.anderson > 0 else None
     v = np.concatenate((y, z))
     safe_v, safe_res, extrapolated = v, np.inf, False
-    last_update, it = 0, 0
+    last_update, it, paused_until = 0, 0, 0
     best_r, best_err = y.copy(), np.inf
     while it < max_iter:
         it += 1
@@ -240,6 +241,7 @@ def run_admm(fr: _Frame, r, max_iter: int, mon: _Monitor, opts: ADMMOptions):
         if extrapolated and res > safe_res:   # the extrapolation did not pay: back to the plain step
             anderson.clear()
             v, extrapolated = safe_v, False
+            paused_until = it + opts.anderson_pause
             continue
         y_new = tv[:n]
         x = x_new
@@ -259,7 +261,7 @@ def run_admm(fr: _Frame, r, max_iter: int, mon: _Monitor, opts: ADMMOptions):
                 if anderson is not None:
                     anderson.clear()
         safe_v, safe_res = tv, res
-        if anderson is not None:
+        if anderson is not None and it >= paused_until:
             v, extrapolated = anderson.step(v, tv)
         else:
             v = tv
