@@ -91,6 +91,29 @@ def test_admm_on_capsules_is_not_decided_by_round_off():
         assert s.converged and s.iterations <= 1000, (seed, s.iterations, s.error)
 
 
+@needs_fclib
+@pytest.mark.parametrize("pause", [0, 10])
+def test_admm_extrapolates_again_only_after_its_pause(monkeypatch, pause):
+    """A dropped extrapolation is an iteration the callback does not see (its step is taken
+    again from the plain iterate); Anderson's memory is fed again only ``anderson_pause``
+    iterations later, and at once without a pause."""
+    from frictionrules import ADMMOptions
+    from frictionrules.multicontact._admm import _Anderson
+    seen, fed = [], []
+    step = _Anderson.step
+    monkeypatch.setattr(_Anderson, "step", lambda self, v, tv: (fed.append(seen[-1]), step(self, v, tv))[1])
+    p = read_fclib(FCLIB / "local_problem_test.hdf5")
+    s = solve(p, method="admm", tol=1e-8, options=ADMMOptions(anderson_pause=pause),
+              callback=lambda info: seen.append(info.iteration))
+    assert s.converged
+    dropped = sorted(set(range(1, s.iterations + 1)) - set(seen))
+    assert dropped
+    for d in dropped:
+        again = max(d + pause, d + 1)
+        assert not [k for k in fed if d <= k < again]
+        assert again in fed or again >= s.iterations     # none after the last iteration
+
+
 #: Files ADMM brings to 1e-8 within its default 5000 iterations (not spheres-in-a-box, where it
 #: stalls near 3e-2).
 ADMM_FILES = ["CubeH8.hdf5", "LMGC_GlobalFrictionContactProblem00046.hdf5", "local_problem_test.hdf5",
