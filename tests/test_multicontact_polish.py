@@ -370,3 +370,30 @@ def test_solve_times_exclude_the_start_up_of_a_fresh_worker(tmp_path):
     assert all(r.converged for r in records)
     assert records[0].startup_seconds > 0 and all(r.startup_seconds == 0 for r in records[1:])
     assert records[0].cpu_seconds < 0.1 * records[0].startup_seconds
+
+
+@pytest.mark.parametrize("dense_max", [400, 0])
+def test_polish_direction_takes_a_second_shift_only_where_the_first_lu_fails(monkeypatch, dense_max):
+    r""":func:`polish_direction` factorizes :math:`J + \sigma I`, :math:`\sigma = 10^{-9}
+    \max|J_{ii}|`; a thousand times :math:`\sigma` only where that matrix is singular (here a
+    row of J that is :math:`-\sigma` on the diagonal and zero elsewhere), not where the
+    refinement stalls above the tolerance (an inconsistent singular system), with the dense
+    LU and the sparse one."""
+    import scipy.sparse as sp
+
+    from frictionrules.multicontact import _polish as P
+    opts = PolishOptions(dense_max=dense_max)
+    shifts = []
+    lu = P._lu
+    monkeypatch.setattr(P, "_lu", lambda J, sigma, dense, perm=None: (shifts.append(sigma),
+                                                                        lu(J, sigma, dense, perm))[1])
+    d = np.array([2.0, 1.0, 4.0, 3.0])
+    sigma = 1e-9 * 4.0
+    failing = sp.csr_matrix(np.diag([2.0, 1.0, 4.0, -sigma]) + np.diag([0.5, 0.5, 0.0], 1))
+    x, res = P.polish_direction(failing, np.array([1.0, 2.0, 3.0, 0.0]), opts)
+    assert shifts == [sigma, 1e3 * sigma] and res < 1e-12
+    np.testing.assert_allclose(failing @ x, [1.0, 2.0, 3.0, 0.0], atol=1e-9)
+    shifts.clear()
+    stalled = sp.csr_matrix(np.diag(d * [1.0, 1.0, 1.0, 0.0]))     # b has a component out of J's range
+    x, res = P.polish_direction(stalled, np.array([1.0, 1.0, 1.0, 1.0]), opts)
+    assert shifts == [sigma] and res == pytest.approx(0.5, rel=1e-6)
