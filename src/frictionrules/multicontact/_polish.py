@@ -68,9 +68,9 @@ def polish_direction(J, b, opts: PolishOptions, rtol: float | None = None, perm=
     ``opts.regularization`` :math:`\max|J_{ii}|`, and up to ``opts.refinement_steps`` steps
     :math:`x \leftarrow x + (J + \sigma I)^{-1}(b - J x)` (stopped when a step does not halve
     the residual: the best step so far is returned); if that LU fails, or its step is not
-    finite, the same with a thousand times :math:`\sigma`. (That second shift was also tried
-    where the refinement stalled above ``rtol``: an LU more a step, which changed no polish
-    run on the shared files or the piles beyond round-off.) Where J is
+    finite, the same with a thousand times :math:`\sigma`. A refinement that stalls above
+    ``rtol`` keeps its best step: a second shift there costs another LU, and changed no polish
+    run on the shared files or the piles beyond round-off. Where J is
     nearly singular (sticking contacts of a rank-deficient W) the components of the step
     along its smallest eigenvalues stay small, where a plain LU solve puts huge ones (steps of
     2e6 against reactions of 1.6e5 on PerioBox; the plain-LU polish stalled on
