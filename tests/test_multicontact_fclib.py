@@ -59,6 +59,14 @@ def test_newton_converges_where_w_is_rank_deficient():
     assert cone_violation(p.mu_bar, s.r, s.u, scale_r=scale, scale_u=scale) < 1e-7
 
 
+def perturbed(p, seed):
+    """``p`` with W's entries and q perturbed by 1e-15 (relative, normal draws of ``seed``)."""
+    rng = np.random.default_rng(seed)
+    W = p.W.copy()
+    W.data = W.data * (1 + 1e-15 * rng.normal(size=W.data.size))
+    return FrictionContactProblem(W, p.q * (1 + 1e-15 * rng.normal(size=p.q.size)), p.mu_bar)
+
+
 @needs_fclib
 @pytest.mark.parametrize("method", ["prox", "admm", "auto"])
 def test_rank_deficient_file_converges_under_round_off(method):
@@ -67,11 +75,7 @@ def test_rank_deficient_file_converges_under_round_off(method):
     local_problem_test, where Newton alone stalls on some draws."""
     p = read_fclib(FCLIB / "local_problem_test.hdf5")
     for seed in range(8):
-        rng = np.random.default_rng(seed)
-        W = p.W.copy()
-        W.data = W.data * (1 + 1e-15 * rng.normal(size=W.data.size))
-        q = p.q * (1 + 1e-15 * rng.normal(size=p.q.size))
-        s = solve(FrictionContactProblem(W, q, p.mu_bar), method=method, tol=1e-8)
+        s = solve(perturbed(p, seed), method=method, tol=1e-8)
         assert s.converged and s.error <= 1e-8, (seed, s.iterations, s.error)
 
 
@@ -83,11 +87,7 @@ def test_admm_on_capsules_is_not_decided_by_round_off():
     every draw."""
     p = read_fclib(FCLIB / "Capsules-i125-1213.hdf5")
     for seed in range(4):
-        rng = np.random.default_rng(seed)
-        W = p.W.copy()
-        W.data = W.data * (1 + 1e-15 * rng.normal(size=W.data.size))
-        q = p.q * (1 + 1e-15 * rng.normal(size=p.q.size))
-        s = solve(FrictionContactProblem(W, q, p.mu_bar), method="admm", tol=1e-8)
+        s = solve(perturbed(p, seed), method="admm", tol=1e-8)
         assert s.converged and s.iterations <= 1000, (seed, s.iterations, s.error)
 
 
