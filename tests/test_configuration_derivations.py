@@ -7,7 +7,7 @@ independently and compare."""
 import numpy as np
 import pytest
 import sympy as sp
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from frictionrules import Coulomb, EllipticOrthotropic, GrainContact, UserLaw, WedgeAsperity
@@ -140,10 +140,15 @@ def test_cylinder_modulus_matches_eq_3_7(a, th, m):
 @settings(max_examples=30, deadline=None)
 @given(a=st.floats(-1.2, 1.2), p=st.floats(-3.0, 3.0), tx=st.floats(-3, 3), ty=st.floats(-3, 3),
        m=st.floats(0.0, 1.0))
+@example(a=1e-10, p=0.0, tx=0.0, ty=0.0, m=0.0)
+@example(a=-1e-17, p=0.0, tx=0.0, ty=0.0, m=0.0)
 def test_contact_is_the_core_wedge_in_the_rotated_frame_eq_3_11(a, p, tx, ty, m):
     """f, g and the slip direction of Coulomb in the contact's frame are WedgeAsperity(alpha,
     mu) applied to rotate(T, -psi) (``pi + alpha`` for a signed alpha < 0)."""
-    level = abs(a) < 1e-9                   # the top: the wedge degenerates to Coulomb
+    # the top (alpha = 0, or pi + alpha rounding to pi): the wedge degenerates to Coulomb;
+    # any other alpha, however small, is a wedge (at alpha = 1e-10 its limit differs from
+    # Coulomb's by about N alpha = 1.5e-10)
+    level = a == 0.0 or (a < 0.0 and np.pi + a >= np.pi)
     law = Coulomb(m) if level else WedgeAsperity(a if a > 0 else np.pi + a, m)
     contact = GrainContact(Coulomb(m), a, p)
     Tp = rotate(np.array([tx, ty]), -p)
