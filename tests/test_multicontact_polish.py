@@ -377,8 +377,8 @@ def test_polish_direction_takes_a_second_shift_only_where_the_first_lu_fails(mon
     r""":func:`polish_direction` factorizes :math:`J + \sigma I`, :math:`\sigma = 10^{-9}
     \max|J_{ii}|`; a thousand times :math:`\sigma` only where that matrix is singular (here a
     row of J that is :math:`-\sigma` on the diagonal and zero elsewhere), not where the
-    refinement stalls above the tolerance (an inconsistent singular system), with the dense
-    LU and the sparse one."""
+    refinement stalls above the tolerance (an inconsistent singular system) or spends its
+    steps, with the dense LU and the sparse one."""
     import scipy.sparse as sp
 
     from frictionrules.multicontact import _polish as P
@@ -397,3 +397,7 @@ def test_polish_direction_takes_a_second_shift_only_where_the_first_lu_fails(mon
     stalled = sp.csr_matrix(np.diag(d * [1.0, 1.0, 1.0, 0.0]))     # b has a component out of J's range
     x, res = P.polish_direction(stalled, np.array([1.0, 1.0, 1.0, 1.0]), opts)
     assert shifts == [sigma] and res == pytest.approx(0.5, rel=1e-6)
+    shifts.clear()
+    one_step = PolishOptions(dense_max=dense_max, refinement_steps=0)   # sigma leaves 1e-9 of b
+    x, res = P.polish_direction(sp.csr_matrix(np.diag(d)), np.ones(4), one_step, rtol=1e-14)
+    assert shifts == [sigma] and 1e-14 < res < 1e-8

@@ -67,10 +67,10 @@ def polish_direction(J, b, opts: PolishOptions, rtol: float | None = None, perm=
     Iterated Lavrentiev regularization: one LU of :math:`J + \sigma I`, :math:`\sigma = `
     ``opts.regularization`` :math:`\max|J_{ii}|`, and up to ``opts.refinement_steps`` steps
     :math:`x \leftarrow x + (J + \sigma I)^{-1}(b - J x)` (stopped when a step does not halve
-    the residual: the best step so far is returned); if that LU fails, or its step is not
-    finite, the same with a thousand times :math:`\sigma`. A refinement that stalls above
-    ``rtol`` keeps its best step: a second shift there costs another LU, and changed no polish
-    run on the shared files or the piles beyond round-off. Where J is
+    the residual: the best step so far is returned); only if that LU fails, or its step is
+    not finite, the same with a thousand times :math:`\sigma`. A refinement that stalls above
+    ``rtol``, or spends its steps, keeps its best step: a second shift there costs another LU,
+    and changed no polish run on the shared files or the piles beyond round-off. Where J is
     nearly singular (sticking contacts of a rank-deficient W) the components of the step
     along its smallest eigenvalues stay small, where a plain LU solve puts huge ones (steps of
     2e6 against reactions of 1.6e5 on PerioBox; the plain-LU polish stalled on
@@ -88,21 +88,21 @@ def polish_direction(J, b, opts: PolishOptions, rtol: float | None = None, perm=
     for sigma in (sigma0, 1e3 * sigma0):
         solve = _lu(J, sigma, dense, perm)
         if solve is None:
-            continue
+            continue                        # singular: the larger shift
         x, last, resid = np.zeros(n), np.inf, b
         for _ in range(opts.refinement_steps + 1):
             x = x + solve(resid)
             if not np.all(np.isfinite(x)):
-                break
+                break                       # a step not finite: the larger shift
             resid = b - J @ x
             res = float(np.linalg.norm(resid)) / norm_b
             if res < best_res:
                 best, best_res = x.copy(), res
-            if res <= rtol:
-                return best, best_res
-            if res > 0.5 * last:
+            if res <= rtol or res > 0.5 * last:
                 return best, best_res
             last = res
+        else:
+            return best, best_res           # the refinement's steps spent
     return best, best_res
 
 
