@@ -326,6 +326,44 @@ def test_thread_limits_cover_every_blas_call_of_a_solve():
     assert any("scipy" in path for _api, path, _t in seen[0])
 
 
+_OPENMP_AFTER_A_SOLVE = """
+import json, numpy as np, threadpoolctl
+from numba import njit, prange
+from frictionrules import FrictionContactProblem, solve
+from frictionrules._threads import prefer_openmp
+p = FrictionContactProblem(np.eye(3), [-1.0, 2.0, 0.0], [0.5])
+solve(p, method="prox")                 # the controller is built before OpenMP is loaded
+prefer_openmp()
+@njit(parallel=True)
+def total(n):
+    s = 0.0
+    for i in prange(n):
+        s += i
+    return s
+total(10)                               # Numba's OpenMP layer loads the OpenMP runtime
+seen = []
+solve(p, method="prox", callback=lambda info: seen.append(
+    [(lib["internal_api"], lib["num_threads"]) for lib in threadpoolctl.threadpool_info()]))
+print(json.dumps(seen[0]))
+"""
+
+
+def test_thread_limits_cover_an_openmp_runtime_loaded_after_an_earlier_solve():
+    """The OpenMP runtime of Numba's threading layer, loaded after the first solve built the
+    thread controller, is limited by the next solve too (in a fresh interpreter: the order of
+    loading is the test)."""
+    import json
+    import os
+    import subprocess
+    import sys
+    pytest.importorskip("threadpoolctl")
+    env = {k: v for k, v in os.environ.items() if not k.startswith("NUMBA_THREADING_LAYER")}
+    out = subprocess.run([sys.executable, "-c", _OPENMP_AFTER_A_SOLVE], env={**env, "NUMBA_NUM_THREADS": "2"},
+                         capture_output=True, text=True, check=True, timeout=300)
+    libs = json.loads(out.stdout.strip().splitlines()[-1])
+    assert libs and all(threads == 1 for _api, threads in libs)
+
+
 def test_table_has_the_method_that_ran_and_the_parameters(tmp_path):
     for k in range(3):
         write_fclib(tmp_path / f"p{k}.hdf5", known_active_set(k, ("stick", "slip", "open") * (1 + 6 * k))[0])

@@ -84,6 +84,14 @@ def _initial(problem, fr: _Frame, r0):
     return np.ascontiguousarray(r)
 
 
+#: Modules whose import loads a BLAS or OpenMP library: the set of those imported keys the
+#: controller, so that a library loaded after the last scan is found. Numba's thread pools
+#: are among them: its OpenMP layer loads the GNU OpenMP runtime at the first parallel call
+#: (possibly after a solve), and that runtime must be limited too.
+THREADED_MODULES = ("numpy", "scipy.linalg", "sklearn", "torch", "mkl", "numba.np.ufunc.omppool",
+                    "numba.np.ufunc.tbbpool", "numba.np.ufunc.workqueue")
+
+
 @functools.lru_cache(maxsize=None)
 def _thread_controller(_loaded: frozenset):
     """threadpoolctl's controller of the BLAS and OpenMP libraries loaded now, found once per
@@ -101,8 +109,7 @@ def thread_limits(threads):
     if threads is None:
         return contextlib.nullcontext()
     import scipy.linalg  # noqa: F401  (SciPy's BLAS, so that it is in the controller)
-    loaded = frozenset(name for name in ("numpy", "scipy.linalg", "sklearn", "torch", "mkl")
-                       if name in sys.modules)
+    loaded = frozenset(name for name in THREADED_MODULES if name in sys.modules)
     ctl = _thread_controller(loaded)
     if all(lib["num_threads"] <= threads for lib in ctl.info()):
         return contextlib.nullcontext()
