@@ -22,6 +22,7 @@ from frictionrules.multicontact import METHODS, fc3d_error
 from frictionrules.multicontact._frame import REASONS
 from test_io import FCLIB, needs_fclib
 from test_multicontact import cone_violation
+from test_threads import PARALLEL_TOTAL
 
 
 def known_active_set(seed: int, pieces=("stick", "slip", "open", "slip", "stick", "open")):
@@ -328,18 +329,12 @@ def test_thread_limits_cover_every_blas_call_of_a_solve():
 
 _OPENMP_AFTER_A_SOLVE = """
 import json, numpy as np, threadpoolctl
-from numba import njit, prange
 from frictionrules import FrictionContactProblem, solve
 from frictionrules._threads import prefer_openmp
 p = FrictionContactProblem(np.eye(3), [-1.0, 2.0, 0.0], [0.5])
 solve(p, method="prox")                 # the controller is built before OpenMP is loaded
 prefer_openmp()
-@njit(parallel=True)
-def total(n):
-    s = 0.0
-    for i in prange(n):
-        s += i
-    return s
+""" + PARALLEL_TOTAL + """
 total(10)                               # Numba's OpenMP layer loads the OpenMP runtime
 seen = []
 solve(p, method="prox", callback=lambda info: seen.append(

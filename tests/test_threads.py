@@ -8,17 +8,22 @@ import os
 import subprocess
 import sys
 
-_PROBE = """
-import json, numba
+#: A parallel Numba function, ``total(n)``, for the probes run in fresh interpreters.
+PARALLEL_TOTAL = """
 from numba import njit, prange
-from frictionrules._threads import prefer_openmp
-before = list(numba.config.THREADING_LAYER_PRIORITY)
 @njit(parallel=True)
 def total(n):
     s = 0.0
     for i in prange(n):
         s += i
     return s
+"""
+
+_PROBE = """
+import json, numba
+from frictionrules._threads import prefer_openmp
+before = list(numba.config.THREADING_LAYER_PRIORITY)
+""" + PARALLEL_TOTAL + """
 if {launch_first}:
     total(10)
 prefer_openmp()
