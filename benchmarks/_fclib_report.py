@@ -42,9 +42,15 @@ def summary(csv_rows) -> str:
                              f"{_s(b['cpu_median'])}, {float(b['peak_mb']):.0f}")
             else:
                 tried = [r for r in runs if (r["solver"] in OURS) == (side == "ours")]
-                low = min(tried, key=lambda r: float(r["error"]) if r["error"] != "nan" else np.inf, default=None)
-                cells.append("none" if low is None else f"not reached (best {low['solver']} "
-                                                        f"{float(low['error']):.1e})")
+                known = [r for r in tried if np.isfinite(float(r["error"]))]
+                low = min(known, key=lambda r: float(r["error"]), default=None)
+                if low is not None:
+                    cells.append(f"not reached (best {low['solver']} {float(low['error']):.1e})")
+                elif tried:     # no run reported an error: each was stopped (time limit, crash)
+                    stops = sorted({r["info"] or "stopped" for r in tried})
+                    cells.append(f"not reached (no error reported: {', '.join(stops)})")
+                else:
+                    cells.append("none")
         a, b = best["peer"], best["ours"]
         ratio = f"{float(b['cpu_median']) / max(float(a['cpu_median']), 1e-7):.2f}" if a and b else "–"
         lines.append(f"| {f.replace('.hdf5', '')} | {runs[0]['contacts']} | {target} | {cells[0]} | {cells[1]} "
