@@ -22,7 +22,7 @@ from frictionrules.multicontact import METHODS, fc3d_error
 from frictionrules.multicontact._frame import REASONS
 from test_io import FCLIB, needs_fclib
 from test_multicontact import cone_violation
-from test_threads import PARALLEL_TOTAL
+from test_threads import PARALLEL_TOTAL, run_probe
 
 
 def known_active_set(seed: int, pieces=("stick", "slip", "open", "slip", "stick", "open")):
@@ -348,15 +348,8 @@ def test_thread_limits_cover_an_openmp_runtime_loaded_after_an_earlier_solve():
     """The OpenMP runtime of Numba's threading layer, loaded after the first solve built the
     thread controller, is limited by the next solve too (in a fresh interpreter: the order of
     loading is the test)."""
-    import json
-    import os
-    import subprocess
-    import sys
     pytest.importorskip("threadpoolctl")
-    env = {k: v for k, v in os.environ.items() if not k.startswith("NUMBA_THREADING_LAYER")}
-    out = subprocess.run([sys.executable, "-c", _OPENMP_AFTER_A_SOLVE], env={**env, "NUMBA_NUM_THREADS": "2"},
-                         capture_output=True, text=True, check=True, timeout=300)
-    got = json.loads(out.stdout.strip().splitlines()[-1])
+    got = run_probe(_OPENMP_AFTER_A_SOLVE)
     assert got["libs"] and all(threads == 1 for _api, threads in got["libs"])
     if got["layer"] == "omp":           # where GNU OpenMP loads, it is among the limited libraries
         assert "openmp" in {api for api, _t in got["libs"]}

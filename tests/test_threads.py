@@ -33,12 +33,17 @@ print(json.dumps({{"before": before, "priority": list(numba.config.THREADING_LAY
 """
 
 
-def _probe(launch_first: bool = False, **env) -> dict:
+def run_probe(code: str, **env) -> dict:
+    """Run ``code`` in a fresh interpreter with two Numba threads and no threading layer chosen
+    (beyond ``env``); the JSON of its last printed line."""
     clean = {k: v for k, v in os.environ.items() if not k.startswith("NUMBA_THREADING_LAYER")}
-    out = subprocess.run([sys.executable, "-c", _PROBE.format(launch_first=launch_first)],
-                         env={**clean, "NUMBA_NUM_THREADS": "2", **env}, capture_output=True,
-                         text=True, check=True, timeout=300)
+    out = subprocess.run([sys.executable, "-c", code], env={**clean, "NUMBA_NUM_THREADS": "2", **env},
+                         capture_output=True, text=True, check=True, timeout=300)
     return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def _probe(launch_first: bool = False, **env) -> dict:
+    return run_probe(_PROBE.format(launch_first=launch_first), **env)
 
 
 def test_openmp_comes_first_where_nothing_was_chosen():
