@@ -95,7 +95,7 @@ THREADED_MODULES = ("numpy", "scipy.linalg", "sklearn", "torch", "mkl", "numba.n
 @functools.lru_cache(maxsize=None)
 def _thread_controller(_loaded: frozenset):
     """threadpoolctl's controller of the BLAS and OpenMP libraries loaded now, found once per
-    set of loaded libraries (a scan costs 14 ms on 2 busy cores). SciPy's own BLAS (loaded by
+    set of imported :data:`THREADED_MODULES` (a scan costs 14 ms on 2 busy cores). SciPy's own BLAS (loaded by
     ``scipy.linalg``, another library than NumPy's) is loaded first, so that it is limited too."""
     from .._optional import require
     return require("threadpoolctl", extra="solvers").ThreadpoolController()
