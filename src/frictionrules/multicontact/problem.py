@@ -286,7 +286,8 @@ class Solution:
     u : (3 nc,) array
         Relative velocities :math:`u = W r + q`.
     error : float
-        Final error (:func:`~frictionrules.multicontact.fc3d_error`, Siconos' measure).
+        Final error (:func:`~frictionrules.multicontact.fc3d_error`, Siconos' measure; on the
+        law path :func:`~frictionrules.multicontact.law_error`: see ``error_measure``).
     iterations : int
     converged : bool
         ``error <= tol`` (and the reactions bounded: see ``reason``).
