@@ -283,3 +283,19 @@ def test_law_error_is_zero_only_at_solutions():
     sol = solve(p, tol=1e-14)
     assert law_error(p, sol.r) <= 1e-13
     assert law_error(p, sol.r + 1e-4) > 1e-6
+
+
+def test_warm_start_callback_and_options_on_the_law_path():
+    """r0 (a previous step's answer) converges at once; the callback sees each evaluation; a
+    budget of one sweep stops as max_iter; the small path's records keep Siconos' measure."""
+    from frictionrules import NSGSOptions
+    W, q = random_problem(9, 4)
+    p = FrictionContactProblem(W, q, [Huber(0.6, 0.45), TransformedCoulomb(0.5, 0.3), 0.4,
+                                      LAWS["dilatant"][0]])
+    first = solve(p, tol=1e-12)
+    seen = []
+    again = solve(p, tol=1e-12, r0=first.r, callback=seen.append,
+                  options=NSGSOptions(max_check_interval=2), method="nsgs")
+    assert again.converged and again.iterations == 1 and seen and seen[-1].error <= 1e-12
+    assert solve(p, tol=0.0, max_iter=1).reason == "max_iter"
+    assert solve(FrictionContactProblem(W, q, 0.4)).error_measure == "fc3d"

@@ -136,7 +136,8 @@ class FrictionContactProblem:
         Free velocity.
     mu : float, (nc,) array, FrictionLaw or sequence of laws/floats
         Per-contact law: a number is isotropic Coulomb without normal slip (FCLIB); a law
-        must declare the capability ``"cone"`` (see the module docstring).
+        declares the capability ``"cone"`` or has f and g cones in (T, N) without internal
+        variables (the law path; see the module docstring).
     title : str
         A label (read from FCLIB ``info/title``).
     state : LawState or sequence of LawState, optional
