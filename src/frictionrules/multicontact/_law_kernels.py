@@ -285,3 +285,27 @@ def law_nsgs(indptr, indices, data, D, q, fn, rows_k, rows_1, dilatant, r, tol, 
             step = int(min(float(max_interval), max(1.0, 0.5 * predicted)))
         next_check = it + step
     return it, err, nh
+
+
+@njit(cache=True)
+def law_linearization(fn, rows_k, r, u, ws, R, DP, om):
+    r"""The law path's global natural map with the rows' metric and its generalized Jacobian
+    pieces: per contact :math:`R_a = r_a - P_K(r_a - \omega_a K u_a)` into ``R``,
+    :math:`\partial P_K` at the trial into ``DP[a]`` and :math:`\omega_a` into ``om`` (1, or
+    what keeps a compressed contact's trial compressed, as :func:`trial_weight`). Returns the
+    number of failed returns."""
+    s, du, s1, res, tan = scratch(0)
+    bad = 0
+    for a in range(rows_k.shape[0]):
+        i = 3 * a
+        kt, kn = rows_k[a, LAW_KT], rows_k[a, LAW_KN]
+        w = trial_weight(r[i], kn * u[i])
+        om[a] = w
+        p0, p1, p2, _kind, failed = project_law(fn[a], rows_k[a], r[i] - w * kn * u[i],
+                                                r[i + 1] - w * kt * u[i + 1],
+                                                r[i + 2] - w * kt * u[i + 2], s, du, s1, res, ws,
+                                                tan, True)
+        R[i], R[i + 1], R[i + 2] = r[i] - p0, r[i + 1] - p1, r[i + 2] - p2
+        tangent_of(rows_k[a], tan, DP[a])
+        bad += failed
+    return bad

@@ -30,10 +30,13 @@ the law's natural map with the identity metric, normalised as FCLIB's,
 zero exactly at a solution (:func:`law_error`: ρ = 1 but where a dilatant contact opens faster
 than :math:`r_N/2`). For a dilatant law the local fixed point is retried with the trial
 :math:`r - \omega K u`, ω divided by 4, where it does not converge (a tensile trial opens the
-contact in the return map, so a solution with :math:`k_n u_N \ge r_N` is no fixed point). The separation rule is the contact layer's (a contact whose
-trial force is tensile opens): for a dilatant law it admits :math:`r = 0` with any
-:math:`u_N \ge 0`, where the cone path's De Saxcé condition asks
-:math:`u_N \ge \bar\mu d|\tilde u_T|`.
+contact in the return map, so a solution with :math:`k_n u_N \ge r_N` is no fixed point).
+``method="polish"`` is semismooth Newton on the global map (:mod:`._law_polish`); ``"auto"``
+alternates sweeps and Newton steps.
+
+The separation rule is the contact layer's (a contact whose trial force is tensile opens): for
+a dilatant law it admits :math:`r = 0` with any :math:`u_N \ge 0`, where the cone path's De
+Saxcé condition asks :math:`u_N \ge \bar\mu d|\tilde u_T|`.
 """
 
 from __future__ import annotations
@@ -54,6 +57,9 @@ __all__ = ["LAW_METHODS", "check_law", "law_error", "contact_dissipation", "solv
 #: natural map relative to the contact's reactions (a few tens of ulps: round-off; where a
 #: contact does not get there, the sweeps continue it).
 LOCAL_ITER, LOCAL_TOL = 30, 1e-14
+#: ``"auto"`` on the law path: the first stage's sweeps (doubled at each round) and the Newton
+#: steps of each polish between them.
+AUTO_SWEEPS, AUTO_POLISH_STEPS = 100, 20
 
 
 @dataclass(frozen=True, eq=False)
@@ -129,9 +135,9 @@ def law_error(problem, r, u=None) -> float:
     compressed contact opening faster than :math:`r_N/2` (a dilatant law sliding), where
     :math:`\rho_a = r_N/(2u_N)` keeps the trial compressed: the contact layer's return opens a
     contact whose trial is tensile, so with :math:`\rho = 1` such a solution would not be a
-    zero. The division is skipped when the scale is at most the machine epsilon. FCLIB's measure (:func:`fc3d_error`) projects on the cone
-    with De Saxcé's modified velocity instead; the two vanish together for isotropic Coulomb
-    without normal slip.
+    zero. The division is skipped when the scale is at most the machine epsilon. FCLIB's
+    measure (:func:`fc3d_error`) projects on the cone with De Saxcé's modified velocity
+    instead; the two vanish together for isotropic Coulomb without normal slip.
 
     Parameters
     ----------
@@ -203,12 +209,15 @@ def metric_rows(problem, ls: LawSet, D) -> np.ndarray:
 
 def solve_law(problem, method, tol, max_iter, r0, opts, callback, time_limit, t0, c0) -> Solution:
     """:func:`~frictionrules.solve` on the law path (arguments checked by the caller; ``opts``
-    the NSGS options, None for the defaults)."""
+    the method's options record or None). ``"nsgs"``: sweeps; ``"polish"``: Newton steps
+    (:mod:`._law_polish`) from ``r0``; ``"auto"``: :data:`AUTO_SWEEPS` sweeps, then the
+    polish, then twice as many sweeps, and so on."""
     from ..contact import workspace
     from ._kernels import diagonal_blocks
+    from ._law_polish import polish
     from ._options import NSGSOptions
     check_method(problem, method)
-    opts = opts if opts is not None else NSGSOptions()
+    nsgs_opts = opts if isinstance(opts, NSGSOptions) else NSGSOptions()
     ls = law_set(problem)
     K = _kernels()
     W = problem.W
@@ -224,21 +233,57 @@ def solve_law(problem, method, tol, max_iter, r0, opts, callback, time_limit, t0
         from ._frame import initial_reactions
         r = initial_reactions(r0, n)
     ws = workspace(0)
-    done, chunk = 0, 1
-    while done < max_iter:
-        m = min(chunk, max_iter - done)
-        hist_err, hist_it = np.full(m, np.nan), np.zeros(m, dtype=np.int64)
-        t = time.perf_counter()
-        it, err, nh = K.law_nsgs(*csr, D, problem.q, ls.fn, rows_k, ls.rows, ls.dilatant, r, tol, m, hist_err,
-                                 hist_it, fr.norm_q, opts.max_check_interval, LOCAL_ITER, LOCAL_TOL, ws)
-        per_sweep = (time.perf_counter() - t) / max(it, 1)
-        for k in range(nh - 1):
-            mon.errors.append(float(hist_err[k]))
-            mon.iterations.append(done + int(hist_it[k]))
-        done += it
-        if mon.record("nsgs", done, r, err):
-            break
-        chunk = int(max(1, min(10 * chunk + 10, opts.chunk_seconds / max(per_sweep, 1e-9))))
+    done, ran = 0, []
+
+    def sweeps(budget):
+        """NSGS sweeps on ``r`` (in place); True when the monitor stops the run."""
+        nonlocal done
+        chunk, end = 1, done + budget
+        while done < end:
+            m = min(chunk, end - done)
+            hist_err, hist_it = np.full(m, np.nan), np.zeros(m, dtype=np.int64)
+            t = time.perf_counter()
+            it, err, nh = K.law_nsgs(*csr, D, problem.q, ls.fn, rows_k, ls.rows, ls.dilatant, r, tol, m,
+                                     hist_err, hist_it, fr.norm_q, nsgs_opts.max_check_interval,
+                                     LOCAL_ITER, LOCAL_TOL, ws)
+            per_sweep = (time.perf_counter() - t) / max(it, 1)
+            for k in range(nh - 1):
+                mon.errors.append(float(hist_err[k]))
+                mon.iterations.append(done + int(hist_it[k]))
+            done += it
+            if mon.record("nsgs", done, r, err):
+                return True
+            chunk = int(max(1, min(10 * chunk + 10, nsgs_opts.chunk_seconds / max(per_sweep, 1e-9))))
+        return False
+
+    def newton(steps):
+        nonlocal done, r
+
+        def record(rr, err):
+            nonlocal done
+            done += 1
+            return mon.record("polish", done, rr, err)
+
+        r, _err, _k, stop = polish(problem, ls, rows_k, r, tol, steps, lambda x: law_error(problem, x),
+                                   record, ws)
+        return stop or _err <= tol
+
+    if method == "nsgs":
+        ran.append("nsgs")
+        sweeps(max_iter)
+    elif method == "polish":
+        ran.append("polish")
+        newton(max_iter)
+    else:
+        budget = AUTO_SWEEPS
+        while done < max_iter:
+            ran.append("nsgs")
+            if sweeps(min(budget, max_iter - done)) or done >= max_iter:
+                break
+            ran.append("polish")
+            if newton(min(AUTO_POLISH_STEPS, max_iter - done)):
+                break
+            budget *= 2
     u = problem.velocity(r)
     err = law_error(problem, r, u)
     bounded = bool(np.linalg.norm(r) <= fr.r_bound)
@@ -247,7 +292,8 @@ def solve_law(problem, method, tol, max_iter, r0, opts, callback, time_limit, t0
         reason = "converged"
     elif reason == "converged":
         reason = "max_iter" if bounded else "unbounded"
+    stages = "+".join(dict.fromkeys(ran)) if ran else method
     return Solution(r=r, u=u, error=err, iterations=int(done), converged=reason == "converged",
                     history=np.array(mon.errors), history_iterations=np.array(mon.iterations, dtype=int),
-                    method="nsgs", seconds=time.perf_counter() - t0, reason=reason,
+                    method=stages, seconds=time.perf_counter() - t0, reason=reason,
                     cpu_seconds=time.thread_time() - c0, error_measure="law")
