@@ -22,7 +22,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.optimize import root
 
-from frictionrules import (Coulomb, FrictionContactProblem, FrictionRulesError, Huber,
+from frictionrules import (Coulomb, EllipticOrthotropic, FrictionContactProblem, FrictionRulesError, Huber,
                            SlipHardening, TransformedCoulomb, UserLaw, solve)
 from frictionrules.multicontact import contact_dissipation, law_error
 
@@ -311,3 +311,22 @@ def test_warm_start_callback_and_options_on_the_law_path():
     assert again.converged and again.iterations == 1 and seen and seen[-1].error <= 1e-12
     assert solve(p, tol=0.0, max_iter=1).reason == "max_iter"
     assert solve(FrictionContactProblem(W, q, 0.4)).error_measure == "fc3d"
+
+
+@pytest.mark.parametrize("law", [EllipticOrthotropic(0.6, 0.2, angle=0.5), Coulomb(0.4, dilatant=True)],
+                         ids=["elliptic", "dilatant-coulomb"])
+def test_cone_laws_on_the_law_path_equal_the_cone_path(law):
+    """A cone law beside a Huber contact that W decouples from it: on the law path its answer
+    is the cone path's answer of the contact alone (the elliptic cone's frame transformation;
+    the dilatant rule (1.6) at a sliding, compressed contact, where the two separation rules
+    agree)."""
+    W1, q1 = random_problem(4, 1)
+    q1 = np.array([-1.0, 0.9, -0.6])
+    W = np.zeros((6, 6))
+    W[:3, :3], W[3:, 3:] = W1, np.eye(3)
+    q = np.concatenate((q1, [-1.0, 0.2, 0.1]))
+    both = solve(FrictionContactProblem(W, q, [law, Huber(0.6, 0.45)]), tol=1e-13)
+    alone = solve(FrictionContactProblem(W1, q1, [law]), tol=1e-13, method="nsgs")
+    assert both.converged and alone.converged
+    assert np.linalg.norm(alone.u[1:]) > 1e-3 and alone.r[0] > 0      # sliding, compressed
+    np.testing.assert_allclose(both.r[:3], alone.r, rtol=0, atol=1e-10)
