@@ -10,18 +10,20 @@ generalized Jacobian
 :math:`\partial P` block-diagonal from each law's consistent tangent of its return
 (:func:`._law_kernels.law_linearization`): each contact's regime (open, stick, slide) read
 from the iterate and held for one step, Newton's method on a smooth system once the regimes
-have settled. ``J`` is assembled sparse and solved by SuperLU (a tiny diagonal shift where it
-is singular: sticking contacts of a rank-deficient W); a step is kept when it lowers the law
-error (:func:`._law_path.law_error`), halved up to ``HALVINGS`` times, and the stage stops when
-none does.
+have settled. ``J`` is assembled sparse and solved by SuperLU; a step is kept when it lowers
+the law error (:func:`._law_path.law_error`), halved up to ``HALVINGS`` times; where no step
+of a direction does, the direction of :math:`J + \sigma I` with the next shift of ``SHIFTS``
+is tried, and the stage stops when none does.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-#: Step halvings before a polish stage gives up, and the relative diagonal shift of a singular J.
-HALVINGS, SHIFT = 6, 1e-10
+#: Step halvings of a direction, and the relative diagonal shifts of J tried in turn until a
+#: direction lowers the error (a singular or nearly singular J: sticking contacts of a
+#: rank-deficient W, whose null-space components a small shift leaves huge).
+HALVINGS, SHIFTS = 6, (0.0, 1e-10, 1e-7, 1e-4)
 
 
 def polish(problem, ls, rows_k, r, tol, steps, error, record, ws):
@@ -49,17 +51,21 @@ def polish(problem, ls, rows_k, r, tol, steps, error, record, ws):
         K.law_linearization(ls.fn, rows_k, r, W @ r + q, ws, R, DP, om)
         B = sp.bsr_matrix((DP, np.arange(nc), np.arange(nc + 1)), shape=(n, n)).tocsr()
         J = (I - B + B @ sp.diags(np.repeat(om, 3) * kd) @ W).tocsc()
-        d = _solve(J, -R, spla, sp)
-        if d is None:
-            break
-        t, kept = 1.0, False
-        for _h in range(HALVINGS + 1):
-            trial = r + t * d
-            e = error(trial)
-            if e < err:
-                kept = True
+        kept = False
+        for shift in SHIFTS:
+            d = _solve(J, -R, shift, spla, sp)
+            if d is None:
+                continue
+            t = 1.0
+            for _h in range(HALVINGS + 1):
+                trial = r + t * d
+                e = error(trial)
+                if e < err:
+                    kept = True
+                    break
+                t *= 0.5
+            if kept:
                 break
-            t *= 0.5
         if not kept:
             break
         r, err = trial, e
@@ -69,17 +75,16 @@ def polish(problem, ls, rows_k, r, tol, steps, error, record, ws):
     return r, err, taken, False
 
 
-def _solve(J, b, spla, sp):
+def _solve(J, b, shift, spla, sp):
+    """:math:`(J + \sigma I)^{-1} b`, :math:`\sigma` = ``shift`` times the largest diagonal
+    entry of J (at least 1); None where singular or not finite."""
     import warnings
-    for shift in (0.0, SHIFT):
-        scale = shift * max(abs(J.diagonal()).max(), 1.0)
-        A = J if shift == 0.0 else (J + scale * sp.identity(J.shape[0])).tocsc()
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            try:
-                x = spla.spsolve(A, b)
-            except RuntimeError:
-                continue
-        if np.all(np.isfinite(x)):
-            return x
-    return None
+    scale = shift * max(abs(J.diagonal()).max(), 1.0)
+    A = J if shift == 0.0 else (J + scale * sp.identity(J.shape[0])).tocsc()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        try:
+            x = spla.spsolve(A, b)
+        except RuntimeError:
+            return None
+    return x if np.all(np.isfinite(x)) else None
