@@ -76,7 +76,7 @@ def polish(problem, ls, rows_k, r, tol, steps, error, record, ws):
 
 
 def _solve(J, b, shift, spla, sp):
-    """:math:`(J + \sigma I)^{-1} b`, :math:`\sigma` = ``shift`` times the largest diagonal
+    r""":math:`(J + \sigma I)^{-1} b`, :math:`\sigma` = ``shift`` times the largest diagonal
     entry of J (at least 1); None where singular or not finite."""
     import warnings
     scale = shift * max(abs(J.diagonal()).max(), 1.0)
