@@ -117,11 +117,11 @@ def export(law, target: str, out_dir, *, kt, kn=None, hardening=None, name=None,
     kind = EXPORT_TARGETS[target]
     written = kind.writer(spec, kind)
     if target == "lammps":
-        from ._lammps import lammps_snippet
-        snip = lammps_snippet(spec, written, out)
+        from ._lammps import lammps_readme, lammps_snippet
+        texts = (*written.files, lammps_snippet(spec, written, out),
+                 lammps_readme(kind, spec, written))
     else:
-        snip = snippet(kind, spec, written)
-    texts = (*written.files, snip, readme(kind, spec, written))
+        texts = (*written.files, snippet(kind, spec, written), readme(kind, spec, written))
     paths = tuple(write_text(out / fname, text)
                   for fname, text in zip(kind.files(spec.name), texts, strict=True))
     library = None

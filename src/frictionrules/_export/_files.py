@@ -67,9 +67,6 @@ def _table(entries, values=None) -> list[str]:
 def readme(target, spec, written) -> str:
     """The README of the target's files; ``target`` is its :class:`~._table.ExportTarget`."""
     from .._version import __version__
-    if target.name == "lammps":
-        from ._lammps import lammps_readme
-        return lammps_readme(target, spec, written)
     law = type(spec.law).__name__
     files = target.files(spec.name)
     out = [f"# {target.title}: {law}", "",
