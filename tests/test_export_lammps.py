@@ -155,7 +155,7 @@ def _job(folder, steps, swap=False):
     first = steps[0][0]
     atoms = (first, x1) if swap else (x1, first)
     tag = (lambda k: str(2 - k)) if swap else (lambda k: str(k + 1))
-    job = {"setup": _setup(folder, *atoms), "local": "pl", "steps": []}
+    job = {"setup": _setup(folder, *atoms), "local": "pl", "width": 4, "steps": []}
     for x2, v1, v2, w1, w2 in steps:
         job["steps"].append({"x": {tag(1): list(x2), tag(0): list(x1)},
                              "v": {tag(0): list(v1), tag(1): list(v2)},

@@ -208,9 +208,12 @@ def lammps_readme(target, spec, written) -> str:
         "the accumulated slip κ) is ever negated. Vectors are global components (they turn "
         "with the contact), scalars are copied.", "", *rows, "",
         "## Output: `compute pair/local`", "",
-        "`single()` gives 4 extra values (`single_extra = 4`): `p1` = N (> 0 in compression), "
-        "`p2` = |T|, `p3` = 1.0 if the contact's last update slid (plastic) else 0.0, `p4` = "
-        "the dissipation accumulated by the contact (Σ T·Δδp_t − N Δδp_n).", "", "```text",
+        f"`single()` gives {4 + spec.nq} extra values (`single_extra = 4 + FR_NQ`): `p1` = N "
+        "(> 0 in compression), `p2` = |T|, `p3` = 1.0 if the contact's last update slid "
+        "(plastic) else 0.0, `p4` = the dissipation accumulated by the contact "
+        "(Σ T·Δδp_t − N Δδp_n)" + "".join(f", `p{5 + k}` = `{n}`"
+                                            for k, n in enumerate(spec.state_names))
+        + ". Pairs out of contact give zeros.", "", "```text",
         "compute c all pair/local p1 p2 p3 p4",
         "compute s all reduce sum c_c[1] c_c[3] c_c[4] inputs local",
         "thermo_style custom step c_s[1] c_s[2] c_s[3]   # ΣN, sliding contacts, dissipation",

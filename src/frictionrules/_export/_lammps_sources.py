@@ -23,6 +23,8 @@ PAIR_H = r"""/* pair_frictionrules.h -- a LAMMPS pair style running one friction
 
 #include "pair.h"
 
+#include <string>
+
 #include "frictionrules_law.h"
 
 namespace LAMMPS_NS {
@@ -47,10 +49,12 @@ class FR_CLASS : public Pair {
  protected:
   class Fix *fix_history;    // the fix NEIGH_HISTORY holding every contact's history
   double axis[3];            // the frame's reference axis (unit)
+  int project;               // history kept as LAMMPS's gran/hooke/history does (keyword)
   double *coeffs;            // FR_NPARAMS values (kt, kn, law parameters) per type pair
   double maxrad;             // largest radius of any atom
   int stride;                // ntypes + 1 when allocated
   void allocate();
+  std::string history_id() const { return "NEIGH_HISTORY_FR" + std::to_string(instance_me); }
   double *params(int itype, int jtype) const
   {
     return coeffs + FR_NPARAMS * (static_cast<size_t>(itype) * stride + jtype);
@@ -139,6 +143,15 @@ enum {
 };
 #define FR_NHISTORY (16 + FR_NQ)
 
+/* Velocity of b's contact point relative to a's, v_b - v_a - (r_a w_a + r_b w_b) x n. */
+#define FR_RELATIVE_VELOCITY                                                           \
+  {v[b][0] - v[a][0] - ((ra * omega[a][1] + rb * omega[b][1]) * n[2]                   \
+                        - (ra * omega[a][2] + rb * omega[b][2]) * n[1]),               \
+   v[b][1] - v[a][1] - ((ra * omega[a][2] + rb * omega[b][2]) * n[0]                   \
+                        - (ra * omega[a][0] + rb * omega[b][0]) * n[2]),               \
+   v[b][2] - v[a][2] - ((ra * omega[a][0] + rb * omega[b][0]) * n[1]                   \
+                        - (ra * omega[a][1] + rb * omega[b][1]) * n[0])}
+
 static inline void fr_frame(double nx, double ny, double nz, const double *axis, double *t1)
 {
   double ax = axis[0], ay = axis[1], az = axis[2];
@@ -175,23 +188,30 @@ static inline void fr_turn(const double *u, const double *m, double k, const dou
   out[2] = vz * ct + wz * st;
 }
 
-FR_CLASS::FR_CLASS(LAMMPS *lmp) : Pair(lmp), fix_history(nullptr), coeffs(nullptr), maxrad(0.0), stride(0)
+FR_CLASS::FR_CLASS(LAMMPS *lmp) :
+    Pair(lmp), fix_history(nullptr), project(0), coeffs(nullptr), maxrad(0.0), stride(0)
 {
   single_enable = 1;
   no_virial_fdotr_compute = 1;
-  single_extra = 4;
-  svector = new double[4];
+  single_extra = 4 + FR_NQ;
+  svector = new double[4 + FR_NQ];
   nondefault_history_transfer = 1;
   comm_forward = 0;
   axis[0] = 1.0;
   axis[1] = axis[2] = 0.0;
+  // a placeholder, replaced by the fix NEIGH_HISTORY in init_style(): the history fix must come
+  // before any fix that migrates atoms in pre_exchange (fix deform with remap)
+  modify->add_fix(history_id() + "_DUMMY all DUMMY");
 }
 
 FR_CLASS::~FR_CLASS()
 {
   if (copymode) return;
   delete[] svector;
-  if (fix_history) modify->delete_fix(fix_history->id);
+  if (fix_history)
+    modify->delete_fix(fix_history->id);
+  else if (modify->get_fix_by_id(history_id() + "_DUMMY"))
+    modify->delete_fix(history_id() + "_DUMMY");
   if (allocated) {
     memory->destroy(setflag);
     memory->destroy(cutsq);
@@ -211,7 +231,7 @@ void FR_CLASS::allocate()
   memory->create(coeffs, (n + 1) * (n + 1) * FR_NPARAMS, "pair:coeffs");
 }
 
-/* pair_style frictionrules/NAME [axis ax ay az] */
+/* pair_style frictionrules/NAME [axis ax ay az] [history rotate|project] */
 void FR_CLASS::settings(int narg, char **arg)
 {
   int iarg = 0;
@@ -228,9 +248,18 @@ void FR_CLASS::settings(int narg, char **arg)
       s = sqrt(s);
       for (int k = 0; k < 3; k++) axis[k] = a[k] / s;
       iarg += 4;
+    } else if (strcmp(arg[iarg], "history") == 0) {
+      if (iarg + 2 > narg) error->all(FLERR, "pair_style " FR_STYLE ": history rotate|project");
+      if (strcmp(arg[iarg + 1], "rotate") == 0)
+        project = 0;
+      else if (strcmp(arg[iarg + 1], "project") == 0)
+        project = 1;
+      else
+        error->all(FLERR, "pair_style " FR_STYLE ": history rotate|project");
+      iarg += 2;
     } else {
       error->all(FLERR, std::string("pair_style " FR_STYLE ": unknown keyword ") + arg[iarg]
-                        + " (the keyword is: axis ax ay az)");
+                        + " (keywords: axis ax ay az, history rotate|project)");
     }
   }
 }
@@ -281,10 +310,13 @@ void FR_CLASS::init_style()
   neighbor->add_request(this, NeighConst::REQ_SIZE | NeighConst::REQ_HISTORY);
 
   if (fix_history == nullptr) {
-    const std::string id = "NEIGH_HISTORY_FR" + std::to_string(instance_me);
+    const std::string id = history_id();
     Fix *fix = modify->get_fix_by_id(id);
-    if (fix == nullptr)
-      fix = modify->add_fix(id + " all NEIGH_HISTORY " + std::to_string(FR_NHISTORY), 1);
+    const std::string args = id + " all NEIGH_HISTORY " + std::to_string(FR_NHISTORY);
+    if (fix == nullptr && modify->get_fix_by_id(id + "_DUMMY"))
+      fix = modify->replace_fix(id + "_DUMMY", args, 1);
+    else if (fix == nullptr)
+      fix = modify->add_fix(args, 1);
     auto view = static_cast<FR_HISTORY_FIX *>(fix);
     if (strcmp(fix->style, "NEIGH_HISTORY") != 0 || view->firstflag != nullptr
         || view->firstvalue != nullptr || view->pair != nullptr || view->use_bit_flag != 1)
@@ -367,6 +399,11 @@ void FR_CLASS::compute(int eflag, int vflag)
         inc[0] = 0.0;
         inc[1] = 0.0;
         inc[2] = gap;
+        if (project) {    // gran/hooke/history: the first step of a contact slides already
+          const double u[3] = FR_RELATIVE_VELOCITY;
+          inc[0] = dt * (u[0] * t1[0] + u[1] * t1[1] + u[2] * t1[2]);
+          inc[1] = dt * (u[0] * t2[0] + u[1] * t2[1] + u[2] * t2[2]);
+        }
       } else {
         const double *n0 = h + H_N0;
         const double m[3] = {n0[0] + n[0], n0[1] + n[1], n0[2] + n[2]};
@@ -379,8 +416,17 @@ void FR_CLASS::compute(int eflag, int vflag)
         const double s2 = 1.0 / (1.0 + s * s);
         const double ct = (1.0 - s * s) * s2, st = 2.0 * s * s2;
         double ue[3], up[3];
-        fr_turn(h + H_ET, m, k, n, ct, st, ue);
-        fr_turn(h + H_PT, m, k, n, ct, st, up);
+        if (project) {    // gran/hooke/history: projected on the new plane, no twist
+          const double ce = h[H_ET] * n[0] + h[H_ET + 1] * n[1] + h[H_ET + 2] * n[2];
+          const double cp = h[H_PT] * n[0] + h[H_PT + 1] * n[1] + h[H_PT + 2] * n[2];
+          for (int c = 0; c < 3; c++) {
+            ue[c] = h[H_ET + c] - ce * n[c];
+            up[c] = h[H_PT + c] - cp * n[c];
+          }
+        } else {
+          fr_turn(h + H_ET, m, k, n, ct, st, ue);
+          fr_turn(h + H_PT, m, k, n, ct, st, up);
+        }
         state[0] = ue[0] * t1[0] + ue[1] * t1[1] + ue[2] * t1[2];
         state[1] = ue[0] * t2[0] + ue[1] * t2[1] + ue[2] * t2[2];
         state[2] = h[H_EN];
@@ -388,12 +434,7 @@ void FR_CLASS::compute(int eflag, int vflag)
         state[4] = up[0] * t2[0] + up[1] * t2[1] + up[2] * t2[2];
         state[5] = h[H_PN];
         for (int q = 0; q < FR_NQ; q++) state[6 + q] = h[H_Q + q];
-        const double o[3] = {ra * omega[a][0] + rb * omega[b][0],
-                             ra * omega[a][1] + rb * omega[b][1],
-                             ra * omega[a][2] + rb * omega[b][2]};
-        const double u[3] = {v[b][0] - v[a][0] - (o[1] * n[2] - o[2] * n[1]),
-                             v[b][1] - v[a][1] - (o[2] * n[0] - o[0] * n[2]),
-                             v[b][2] - v[a][2] - (o[0] * n[1] - o[1] * n[0])};
+        const double u[3] = FR_RELATIVE_VELOCITY;
         inc[0] = dt * (u[0] * t1[0] + u[1] * t1[1] + u[2] * t1[2]);
         inc[1] = dt * (u[0] * t2[0] + u[1] * t2[1] + u[2] * t2[2]);
         inc[2] = gap - (h[H_EN] + h[H_PN]);
@@ -468,10 +509,11 @@ void FR_CLASS::transfer_history(double *source, double *target, int, int)
   for (int k = 0; k < FR_NHISTORY; k++) target[k] = source[k];
 }
 
-/* svector = N (> 0 in compression), |T|, 1 if the last update slid, accumulated dissipation. */
+/* svector = N (> 0 in compression), |T|, 1 if the last update slid, accumulated dissipation,
+   then the law's internal variables. */
 double FR_CLASS::single(int i, int j, int, int, double rsq, double, double, double &fforce)
 {
-  for (int k = 0; k < 4; k++) svector[k] = 0.0;
+  for (int k = 0; k < 4 + FR_NQ; k++) svector[k] = 0.0;
   fforce = 0.0;
   const double radsum = atom->radius[i] + atom->radius[j];
   if (rsq >= radsum * radsum || fix_history == nullptr) return 0.0;
@@ -486,6 +528,7 @@ double FR_CLASS::single(int i, int j, int, int, double rsq, double, double, doub
     svector[1] = sqrt(h[H_F] * h[H_F] + h[H_F + 1] * h[H_F + 1]);
     svector[2] = h[H_STATUS] == 1.0 ? 1.0 : 0.0;
     svector[3] = h[H_DISS];
+    for (int q = 0; q < FR_NQ; q++) svector[4 + q] = h[H_Q + q];
     fforce = h[H_F + 2] / sqrt(rsq);
     return 0.0;
   }
@@ -525,19 +568,20 @@ void FR_CLASS::read_restart(FILE *fp)
 
 void FR_CLASS::write_restart_settings(FILE *fp)
 {
-  const int sizes[2] = {FR_NPARAMS, FR_NHISTORY};
-  fwrite(sizes, sizeof(int), 2, fp);
+  const int sizes[3] = {FR_NPARAMS, FR_NHISTORY, project};
+  fwrite(sizes, sizeof(int), 3, fp);
   fwrite(axis, sizeof(double), 3, fp);
 }
 
 void FR_CLASS::read_restart_settings(FILE *fp)
 {
-  int sizes[2] = {0, 0};
+  int sizes[3] = {0, 0, 0};
   if (comm->me == 0) {
-    utils::sfread(FLERR, sizes, sizeof(int), 2, fp, nullptr, error);
+    utils::sfread(FLERR, sizes, sizeof(int), 3, fp, nullptr, error);
     utils::sfread(FLERR, axis, sizeof(double), 3, fp, nullptr, error);
   }
-  MPI_Bcast(sizes, 2, MPI_INT, 0, world);
+  MPI_Bcast(sizes, 3, MPI_INT, 0, world);
+  project = sizes[2];
   MPI_Bcast(axis, 3, MPI_DOUBLE, 0, world);
   if (sizes[0] != FR_NPARAMS || sizes[1] != FR_NHISTORY)
     error->all(FLERR, "pair_style " FR_STYLE ": the restart file was written by another law");
