@@ -100,3 +100,28 @@ def drive(install, folder: Path, job: dict, timeout: float = 300.0) -> dict:
     assert out.returncode == 0, (out.stdout + out.stderr)[-3000:]
     with np.load(folder / "result.npz") as data:
         return {k: data[k] for k in data.files}
+
+
+def packing_data(path: Path, squeeze: float = 0.995) -> Path:
+    """A LAMMPS data file (atom_style sphere, density 1) of the 400-sphere random packing of
+    ``Assembly.random(400, 3, seed=1)`` (radii 1 ± 20 %) with positions and cell scaled by
+    ``squeeze``: compressed a little (overlaps up to about 1 % of a radius)."""
+    import frictionrules as fr
+    a = fr.Assembly.random(400, 3, fr.ContactModel(fr.Coulomb(0.3), kn=1e4, kt=1e4),
+                           polydispersity=0.2, seed=1)
+    size = np.diag(a.cell) * squeeze
+    x = np.mod(a.positions * squeeze, size)
+    lines = ["400-sphere packing (frictionrules Assembly.random, seed 1)", "",
+             f"{a.size} atoms", "1 atom types", ""]
+    lines += [f"0.0 {float(size[k])!r} {c}lo {c}hi" for k, c in enumerate("xyz")]
+    lines += ["", "Atoms # sphere", ""]
+    lines += [f"{i + 1} 1 {float(2 * a.radii[i])!r} 1.0 " + " ".join(repr(float(v)) for v in x[i])
+              for i in range(a.size)]
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def read_dump(path: Path) -> np.ndarray:
+    """The rows of a ``write_dump ... custom`` file, sorted by the first column (the ID)."""
+    rows = np.loadtxt(path, skiprows=9, ndmin=2)
+    return rows[np.argsort(rows[:, 0])]
