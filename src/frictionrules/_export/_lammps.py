@@ -170,8 +170,12 @@ def lammps_readme(target, spec, written) -> str:
         f"- `pair_coeff I J {coeffs}`: per pair of atom types, so that a mixture can have "
         "different stiffnesses and parameters. Nothing is mixed: every pair of types I <= J "
         "must be set (LAMMPS stops otherwise).",
-        "- `pair_style` keyword `axis ax ay az` (default `1 0 0`): the reference axis of the "
-        "contact frame (below).",
+        "- `pair_style` keywords: `axis ax ay az` (default `1 0 0`), the reference axis of the "
+        "contact frame (below); `history rotate` (default: frictionrules' DEM engine) or "
+        "`history project` (LAMMPS's `gran/hooke/history`: the stored displacements projected "
+        "on the new contact plane, no twist, a new contact's first step already sliding; with "
+        "it the exported Coulomb law reproduces `gran/hooke/history` with no damping to "
+        "round-off).",
         "- `atom_style sphere`, `comm_modify vel yes` (ghost atoms carry velocities), "
         "`fix nve/sphere` (or another integrator of spheres with rotation).",
         "- `newton on` (LAMMPS's default) and `newton off` both work: with `newton off` a pair "
@@ -197,6 +201,10 @@ def lammps_readme(target, spec, written) -> str:
         "the moment on either atom its radius times `n × (T1 t1 + T2 t2 − N n)`;",
         "- the first force computation of a `run` (LAMMPS's setup) changes no history: a "
         "contact gives the force of its last step.", "",
+        "With `history project` the two middle points are those of `gran/hooke/history` "
+        "instead: the stored vectors are projected on the new contact plane (they shorten as "
+        "the normal turns), nothing turns them about the normal, and a new contact takes the "
+        "tangential increment of its first step.", "",
         "A failed return map (no convergence even after 2^10 substeps) stops LAMMPS "
         "(`error->one`) naming both atom IDs and the increment.", "",
         f"## Per-contact history ({nhist} values)", "",
