@@ -25,6 +25,8 @@ R = 0.5
 DT = 1.0e-3
 NONASSOC = fr.UserLaw("sqrt((T1/mu_x)**2 + (T2/mu_y)**2) - N", potential="sqrt(T1**2 + T2**2)",
                       params={"mu_x": 0.5, "mu_y": 0.3})
+#: Associated: it hardens with κ and dilates (dg/dN != 0), so N grows while it slides, and its
+#: dissipation T·Δδp_t − N Δδp_n is zero up to round-off (normality on a cone).
 HARDENING = fr.UserLaw("sqrt(T1**2 + T2**2) - mu*(1 + h*(1 - exp(-kappa/kh)))*N",
                        params={"mu": 0.3, "h": 0.6, "kh": 0.004}, state={"kappa": 0.0},
                        rates={"kappa": "slip"})

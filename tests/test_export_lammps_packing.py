@@ -38,7 +38,10 @@ import frictionrules as fr
 from _lammps_harness import lammps_or_skip, packing_data, read_dump, run_lmp
 
 KN = KT = 1.0e4
+#: Hardens with the accumulated slip κ; the potential |T| (no dilatancy) makes every slip
+#: dissipate, so that a dissipation negated on transfer would show.
 HARDENING = fr.UserLaw("sqrt(T1**2 + T2**2) - mu*(1 + h*(1 - exp(-kappa/kh)))*N",
+                       potential="sqrt(T1**2 + T2**2)",
                        params={"mu": 0.3, "h": 0.6, "kh": 0.004}, state={"kappa": 0.0},
                        rates={"kappa": "slip"})
 
@@ -128,6 +131,7 @@ def test_history_across_two_ranks_hardening(setup, tmp_path, newton):
         assert (closed[:, 4] >= 0.0).all(), "an internal variable kappa < 0"
         assert (closed[:, 3] >= -1e-12).all(), "a negative accumulated dissipation"
         assert closed[:, 4].max() > 0.0 and closed[:, 2].sum() > 0    # slid, hardened
+        assert closed[:, 3].sum() > 1.0                                 # and dissipated
     vscale = np.abs(one[:, 4:10]).max()
     assert np.abs(one[:, 1:4] - two[:, 1:4]).max() < 1e-8
     assert np.abs(one[:, 4:10] - two[:, 4:10]).max() < 1e-7 * vscale
