@@ -93,7 +93,7 @@ def _time(install, folder: Path, script: str, steps: int) -> tuple[float, float]
 
 def main(argv=None) -> None:
     import frictionrules as fr
-    from frictionrules._export._lammps_build import lammps_install
+    from frictionrules._export import lammps_install
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--tiles", type=int, default=3)
     ap.add_argument("--steps", type=int, default=500)

