@@ -183,8 +183,10 @@ def lammps_readme(target, spec, written) -> str:
         "- A pair touches while its gap `|x_j - x_i| - r_i - r_j` is negative; when it stops "
         "touching its history is erased (the convention of LAMMPS's granular styles). There is "
         "no cohesion beyond contact.",
-        "- `fix pour` and `fix deposit` are not supported (the history fix is created when the "
-        "run starts, after them).", "",
+        "- Give the `pair_style` (`include pair.lmp`) before any fix that moves atoms between "
+        "ranks when it starts a step (`fix deform` with `remap`, `fix deform/pressure`): the "
+        "pair style reserves the history fix's place in the list of fixes (LAMMPS stops "
+        "otherwise). `fix pour` and `fix deposit` are not supported.", "",
         "## Contact kinematics", "",
         "Those of frictionrules' DEM engine, for the pair in its canonical orientation: `a` is "
         "the atom of lower ID, `b` the other, so that nothing depends on which atom or rank "
