@@ -186,7 +186,8 @@ def lammps_readme(target, spec, written) -> str:
         "- Give the `pair_style` (`include pair.lmp`) before any fix that moves atoms between "
         "ranks when it starts a step (`fix deform` with `remap`, `fix deform/pressure`): the "
         "pair style reserves the history fix's place in the list of fixes (LAMMPS stops "
-        "otherwise). `fix pour` and `fix deposit` are not supported.", "",
+        "otherwise). `fix pour` and `fix deposit` are not supported (the cutoff comes from the "
+        "atoms present when a run starts).", "",
         "## Contact kinematics", "",
         "Those of frictionrules' DEM engine, for the pair in its canonical orientation: `a` is "
         "the atom of lower ID, `b` the other, so that nothing depends on which atom or rank "
