@@ -239,3 +239,88 @@ def test_public_names():
     for name in ("ensemble", "EnsembleResult", "EnsembleRun", "EnsembleSummary",
                  "ConfidenceInterval", "MeanCurve"):
         assert name in frictionrules.__all__
+
+
+# ---- the command line ------------------------------------------------------------------------
+CONFIG = """[sample]
+random = true
+n = 30
+dim = 2
+polydispersity = 0.2
+{seeds}
+[model]
+kn = 1e4
+kt = 1e4
+[model.law]
+type = "Coulomb"
+mu = 0.5
+[loading]
+kind = "biaxial"
+pressure = 1.0
+axial_strain = 0.01
+method = "dem"
+record_every = 1e-3
+"""
+
+
+def _cli(*argv):
+    import subprocess
+    import sys
+    return subprocess.run([sys.executable, "-m", "frictionrules", "assembly", *map(str, argv)],
+                          capture_output=True, text=True, timeout=900)
+
+
+def test_cli_seeds_prints_and_writes_the_summary_and_figure(tmp_path, serial):
+    """--seeds 1,2 runs the library's ensemble (the same numbers), prints the summary, writes
+    summary.csv/.json and the figure; [sample] seeds = [1, 2, 3, 4] then keeps the two runs and
+    runs two more (the statuses printed)."""
+    import json
+    cfg = tmp_path / "ens.toml"
+    cfg.write_text(CONFIG.format(seeds=""))
+    out = tmp_path / "runs"
+    res = _cli(cfg, "--seeds", "1,2", "--out", out, "--figure", tmp_path / "ens.png")
+    assert res.returncode == 0, res.stderr
+    assert "seed 1: new (completed)" in res.stdout and "seed 2: new (completed)" in res.stdout
+    assert "volumetric_strain_end" in res.stdout and "(n = 2)" in res.stdout
+    assert "\r" not in res.stderr  # progress only on a terminal: one summary line here
+    table = json.loads((out / "summary.json").read_text())
+    k = table["columns"]["quantity"].index("volumetric_strain_end")
+    two = ensemble([Assembly.random(30, 2, MODEL, polydispersity=0.2, seed=s) for s in (1, 2)],
+                   "biaxial", **RUN)
+    assert table["columns"]["mean"][k] == two.summary[0].volumetric_strain_end.mean
+    assert table["metadata"]["seeds"] == [1, 2]
+    assert (out / "summary.csv").read_text().startswith("condition,model,options,quantity")
+    assert (tmp_path / "ens.png").stat().st_size > 10_000
+    cfg.write_text(CONFIG.format(seeds="seeds = [1, 2, 3, 4]"))
+    res = _cli(cfg, "--out", out, "--quiet")
+    assert res.returncode == 0, res.stderr
+    assert [line.split(":")[1].split("(")[0].strip() for line in res.stdout.splitlines()
+            if line.startswith("seed ")] == ["kept", "kept", "new", "new"]
+    table = json.loads((out / "summary.json").read_text())
+    assert table["columns"]["mean"][k] == serial.summary[0].volumetric_strain_end.mean
+
+
+@pytest.mark.parametrize("extra, toml_seeds, message", [
+    (["--seeds", "1,x"], "", "'1,x' violates: comma-separated integers"),
+    (["--seeds", "1,1"], "", "'1,1' violates: distinct integers >= 0"),
+    (["--seeds", "1,2", "--vtk", "v"], "", "v' violates: a single run (no seeds)"),
+    (["--seeds", "1,2", "--out", "r.h5"], "", "a folder for the runs' files"),
+    ([], "seeds = []", "seeds = [] violates: a non-empty list"),
+    ([], "seeds = [1]\nseed = 2", "seed and seeds violates: one of them"),
+    (["--workers", "2"], "", "--workers/--scheduler: constraint: an ensemble"),
+])
+def test_cli_bad_seeds_exit_2_with_one_line(tmp_path, extra, toml_seeds, message):
+    cfg = tmp_path / "ens.toml"
+    cfg.write_text(CONFIG.format(seeds=toml_seeds))
+    out = ["--out", tmp_path / "runs"] if "--out" not in extra else []
+    res = _cli(cfg, *out, *[tmp_path / e if e in ("v", "r.h5") else e for e in extra])
+    assert res.returncode == 2, res.stdout + res.stderr
+    assert message in res.stderr and "Traceback" not in res.stderr
+
+
+def test_cli_seeds_need_a_random_sample(tmp_path):
+    cfg = tmp_path / "fcc.toml"
+    cfg.write_text('[sample]\nlattice = "fcc"\n[model]\nkn = 1e6\nkt = 1e6\n[model.law]\n'
+                   'type = "Coulomb"\nmu = 0.3\n[loading]\nkind = "axisymmetric"\npressure = 1.0\n')
+    res = _cli(cfg, "--seeds", "1,2", "--out", tmp_path / "runs")
+    assert res.returncode == 2 and "violates: random = true in [sample]" in res.stderr

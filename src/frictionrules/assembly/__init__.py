@@ -7,7 +7,7 @@ ParaView), :func:`ensemble` (many samples with confidence intervals) and its rec
 (re-exported by :mod:`frictionrules`).
 """
 
-from ._config import read_config
+from ._config import read_config, read_samples
 from ._ensemble import EnsembleResult, EnsembleRun, EnsembleSummary, ensemble
 from ._geometry import Assembly
 from ._loading import load_cell, triaxial
@@ -15,6 +15,6 @@ from ._results import ContactSnapshot, SampleState, TriaxialResult
 from ._statistics import ConfidenceInterval, MeanCurve
 from ._vtk import write_vtk
 
-__all__ = ["Assembly", "triaxial", "load_cell", "TriaxialResult", "ContactSnapshot", "SampleState", "read_config",
+__all__ = ["Assembly", "triaxial", "load_cell", "TriaxialResult", "ContactSnapshot", "SampleState", "read_config", "read_samples",
            "write_vtk", "ensemble", "EnsembleResult", "EnsembleRun", "EnsembleSummary",
            "ConfidenceInterval", "MeanCurve"]

@@ -34,6 +34,9 @@ __all__ = ["ensemble", "EnsembleResult", "EnsembleRun", "EnsembleSummary", "RUN_
 #: ``error``), "not started" (the ensemble's ``max_time`` had passed before it began).
 RUN_STATUSES = ("new", "resumed", "kept", "failed", "not started")
 
+#: The unit of the summary table's numbers: that of the row's quantity (its ``unit`` column).
+_ROW = "the row's unit"
+
 #: Arguments of :func:`triaxial` that :func:`ensemble` sets itself.
 _OWN = ("assembly", "kind", "progress", "max_time", "run_file")
 
@@ -172,8 +175,8 @@ class EnsembleResult:
                                    ("half_width", ci.half_width), ("std", ci.std)):
                     cols[key].append(value)
         units = {"condition": "1", "model": "-", "options": "-", "quantity": "-", "unit": "-",
-                 "runs": "1", "completed": "1", "n": "1", "mean": "quantity", "low": "quantity",
-                 "high": "quantity", "half_width": "quantity", "std": "quantity"}
+                 "runs": "1", "completed": "1", "n": "1", "mean": _ROW, "low": _ROW,
+                 "high": _ROW, "half_width": _ROW, "std": _ROW}
         return cols, units
 
     def format_summary(self) -> str:
