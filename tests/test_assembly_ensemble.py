@@ -324,3 +324,30 @@ def test_cli_seeds_need_a_random_sample(tmp_path):
                    'type = "Coulomb"\nmu = 0.3\n[loading]\nkind = "axisymmetric"\npressure = 1.0\n')
     res = _cli(cfg, "--seeds", "1,2", "--out", tmp_path / "runs")
     assert res.returncode == 2 and "violates: random = true in [sample]" in res.stderr
+
+
+def test_plot_ensemble_draws_the_mean_curves_with_their_bands(serial, samples):
+    """One line per condition at the mean curve, a band between its interval's ends; a
+    condition of one run has no band and its legend says n = 1."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from _figure_checks import assert_readable
+
+    from frictionrules.plot.assembly import plot_ensemble
+    ax = plot_ensemble(serial, "volumetric_strain")
+    curve = serial.curve("volumetric_strain")
+    (line,) = ax.lines
+    np.testing.assert_array_equal(line.get_xdata(), curve.axial_strain)
+    np.testing.assert_array_equal(line.get_ydata(), curve.mean)
+    (band,) = ax.collections
+    ys = np.concatenate([p.vertices[:, 1] for p in band.get_paths()])
+    assert ys.min() == pytest.approx(curve.low.min()) and ys.max() == pytest.approx(curve.high.max())
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["n = 4"]
+    assert_readable(ax)
+    plt.close(ax.figure)
+    one = ensemble(samples[:1], "biaxial", **RUN)
+    ax = plot_ensemble(one, "friction_angle")
+    assert len(ax.lines) == 1 and not ax.collections
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["n = 1"]
+    plt.close(ax.figure)
