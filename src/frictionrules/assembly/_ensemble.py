@@ -143,7 +143,7 @@ class EnsembleResult:
     runs: tuple
     summary: tuple
 
-    def completed(self, condition: int = 0) -> list:
+    def completed_results(self, condition: int = 0) -> list:
         """The results of the completed runs of a condition."""
         return [self.runs[i].result for i in self.summary[condition].runs if self.runs[i].completed]
 
@@ -157,7 +157,7 @@ class EnsembleResult:
                 0 <= condition < len(self.summary)):
             raise FrictionRulesError(f"condition = {condition!r} violates: an integer in "
                                      f"[0, {len(self.summary) - 1}]")
-        return mean_curve(self.completed(int(condition)), quantity)
+        return mean_curve(self.completed_results(int(condition)), quantity)
 
     def table(self) -> tuple[dict, dict]:
         """The summary as a table ``(columns, units)``: one row per condition and quantity
