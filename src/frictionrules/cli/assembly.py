@@ -18,7 +18,9 @@ def register(sub) -> None:
                     "[loading] (kind, pressure, axial_strain, increments; or method = \"dem\" and "
                     "the dynamic engine's options) from CONFIG.toml, run the test, write every "
                     "increment (record) to the HDF5 run file (--out; an existing file of the same "
-                    "run resumes) and print the peak. See docs/assembly.md.",
+                    "run resumes) and print the peak. With seeds (--seeds or [sample] seeds), an "
+                    "ensemble: one run per seed in the folder --out, the means with their 95 % "
+                    "confidence intervals printed and written. See docs/assembly.md.",
         epilog="example: frictionrules assembly examples/assembly_fcc.toml --out fcc.h5 --figure fcc.png")
     p.add_argument("config", metavar="CONFIG.toml", help="run description")
     p.add_argument("--out", metavar="RUN.h5", required=True,
@@ -32,7 +34,9 @@ def register(sub) -> None:
     p.add_argument("--vtk-every", type=positive_int, default=1, metavar="N",
                    help="write every N-th record to --vtk (the first and the last always)")
     p.add_argument("--max-time", type=finite_float, metavar="SECONDS",
-                   help="stop after this time (the file keeps every finished increment or record)")
+                   help="stop after this time (the file keeps every finished increment or record); "
+                        "with seeds, the time of the whole ensemble (runs not started are "
+                        "started by the next call)")
     p.add_argument("--seeds", type=seed_list, metavar="S1,S2,...",
                    help="an ensemble: the random sample of [sample] with each of these seeds "
                         "(instead of [sample] seeds); prints and writes the means of the peak and "
