@@ -23,7 +23,8 @@ from ._geometry import Assembly
 from ._results import ContactSnapshot, SampleState, TriaxialResult
 from ._solver import CELLS, components, move, solve_increment, stress_of, triaxial_free
 
-__all__ = ["Control", "triaxial", "check_triaxial", "load_cell", "initial_state", "run", "KINDS", "METHODS"]
+__all__ = ["Control", "triaxial", "check_triaxial", "load_cell", "initial_state", "run", "KINDS",
+           "METHODS"]
 
 #: The triaxial tests of :func:`triaxial`.
 KINDS = ("axisymmetric", "plane_strain", "biaxial")
@@ -219,8 +220,10 @@ def check_triaxial(assembly: Assembly, kind: str, *, pressure: float, axial_stra
                    increments, consolidation_increments, rtol, max_cuts, failure_slope, max_time,
                    consolidation: str, method: str, inertial_number, damping, density,
                    record_every, peak_window, cell: str) -> tuple[float, float]:
-    """The arguments of :func:`triaxial` checked, as it checks them before it runs (those of
-    the other method included); returns the pressure and the axial strain as floats."""
+    """The arguments of :func:`triaxial` checked as it checks them before it runs (the options
+    of the method that runs; those of the other are ignored, as by :func:`triaxial`); returns
+    the pressure and the axial strain as floats. :func:`ensemble` checks every run with it
+    before any runs."""
     check_kind(kind, assembly.dim)
     check_cell(cell)
     p = check_scalar("pressure", pressure, lo=0.0, lo_open=True)
