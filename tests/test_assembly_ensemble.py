@@ -9,6 +9,8 @@ import multiprocessing
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from scipy import stats
 
 import frictionrules
@@ -351,3 +353,30 @@ def test_plot_ensemble_draws_the_mean_curves_with_their_bands(serial, samples):
     assert len(ax.lines) == 1 and not ax.collections
     assert [t.get_text() for t in ax.get_legend().get_texts()] == ["n = 1"]
     plt.close(ax.figure)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.floats(-1e3, 1e3, allow_nan=False), min_size=2, max_size=40))
+def test_interval_is_scipy_student_t_for_any_values(values):
+    """The interval of any n >= 2 finite values is scipy.stats.t.interval(0.95, n - 1, x̄,
+    s/√n); it holds the mean and is symmetric about it."""
+    from frictionrules.assembly._statistics import interval
+    ci = interval(values)
+    x = np.asarray(values)
+    scale = x.std(ddof=1) / math.sqrt(len(x))
+    assert ci.n == len(x) and ci.mean == pytest.approx(x.mean(), rel=1e-12, abs=1e-9)
+    if scale == 0:
+        assert ci.half_width == 0 and ci.low == ci.high == ci.mean
+        return
+    low, high = stats.t.interval(0.95, len(x) - 1, loc=ci.mean, scale=scale)
+    assert ci.low == pytest.approx(low, rel=1e-9, abs=1e-9 * scale)
+    assert ci.high == pytest.approx(high, rel=1e-9, abs=1e-9 * scale)
+    assert ci.low <= ci.mean <= ci.high
+    assert ci.high - ci.mean == pytest.approx(ci.mean - ci.low, rel=1e-9, abs=1e-9 * scale)
+
+
+def test_interval_of_no_value_is_nan_and_says_so():
+    from frictionrules.assembly._statistics import interval
+    ci = interval([])
+    assert ci.n == 0 and all(math.isnan(v) for v in (ci.mean, ci.low, ci.high, ci.std))
+    assert str(ci) == "no run"
