@@ -195,16 +195,19 @@ def test_docs_site_builds_offline_without_warnings(site):
     assert "frictionrules solve" in (site / "api" / "cli.html").read_text()
 
 
-#: Chromium, headless, with nothing of its own started (no network, sync, updates).
+#: Chromium, headless, with nothing of its own started (no network, sync, updates). No time
+#: budget: the test polls the page (DevTools protocol) until it has written its measurement.
 CHROMIUM_FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
                   "--disable-background-networking", "--disable-component-update",
-                  "--disable-sync", "--window-size=1280,1000", "--virtual-time-budget=10000"]
-#: Measured in the browser once the page and its images have loaded: every image of the text
-#: (its natural and shown width, and the width of the text column), every code or output
-#: block (the width of its content and of its box).
+                  "--disable-sync", "--window-size=1280,1000"]
+#: Measured in the browser once the page, its images and its fonts have loaded (the load event,
+#: then ``document.fonts.ready``): every image of the text (its natural and shown width, and the
+#: width of the text column), every code or output block (the width of its content and of its
+#: box). The element it appends last is what the test waits for.
 _MEASURE = """
 <script>
 window.addEventListener("load", function () {
+  document.fonts.ready.then(function () {
   var body = document.querySelector("div.body"), out = {images: [], blocks: []};
   body.querySelectorAll("img").forEach(function (i) {
     out.images.push({src: i.getAttribute("src"), natural: i.naturalWidth,
@@ -217,6 +220,7 @@ window.addEventListener("load", function () {
   e.id = "frictionrules-layout";
   e.textContent = JSON.stringify(out);
   document.body.appendChild(e);
+  });
 });
 </script>
 """
@@ -235,19 +239,16 @@ def chromium() -> str:
 
 def layout(page: Path, browser: str, profile: Path) -> dict:
     """What Chromium shows of ``page``: a copy of it beside it (same relative links) with the
-    measuring script appended, opened headless, its DOM read back."""
+    measuring script appended, opened headless; the test waits until the page has written its
+    measurement (polled through the DevTools protocol), however long loading takes."""
+    from _browser import wait_for_text
     probe = page.with_name(page.stem + ".layout-check.html")
     probe.write_text(page.read_text().replace("</body>", _MEASURE + "</body>"))
     try:
-        proc = subprocess.run([browser, *CHROMIUM_FLAGS, f"--user-data-dir={profile}",
-                               "--dump-dom", probe.as_uri()], capture_output=True, text=True,
-                              timeout=120)
+        text = wait_for_text(browser, CHROMIUM_FLAGS, profile, probe.as_uri(), "frictionrules-layout")
     finally:
         probe.unlink()
-    found = re.search(r'<pre id="frictionrules-layout">(.*?)</pre>', proc.stdout, re.S)
-    assert found, f"{page.name}: no measurement from chromium ({proc.stderr[-500:]})"
-    import html
-    return json.loads(html.unescape(found.group(1)))
+    return json.loads(text)
 
 
 def test_gallery_pages_show_their_figures_in_a_browser(site, tmp_path):

@@ -60,6 +60,8 @@ from .configuration import (
 # grain assemblies: many grains, a law at every contact (§5, (4.12))
 from .assembly import (Assembly, ContactSnapshot, SampleState, TriaxialResult, load_cell, triaxial,
                        write_vtk)
+from .assembly import (ConfidenceInterval, EnsembleResult, EnsembleRun, EnsembleSummary, MeanCurve,
+                       ensemble)
 
 __all__ = [
     "FrictionRulesError",
@@ -147,6 +149,12 @@ __all__ = [
     "write_vtk",
     "ContactSnapshot",
     "SampleState",
+    "ensemble",
+    "EnsembleResult",
+    "EnsembleRun",
+    "EnsembleSummary",
+    "ConfidenceInterval",
+    "MeanCurve",
 ]
 
 _SYMBOLS = ("T1", "T2", "N")

@@ -9,6 +9,7 @@
     radius = 1.0
     reference_axis = [1.0, 0.0, 0.0]
     # random = true; n = 400; dim = 3; polydispersity = 0.2; seed = 1
+    # seeds = [1, 2, 3]        # random samples: an ensemble, one run per seed (not with seed)
     [model]
     kn = 1e6
     kt = 1e6
@@ -35,10 +36,10 @@ from ..errors import FrictionRulesError
 from ..laws import law_from_mapping
 from ._geometry import Assembly
 
-__all__ = ["read_config"]
+__all__ = ["read_config", "read_samples"]
 
 _SAMPLE = {"lattice", "frame", "cells", "radius", "reference_axis", "tolerance", "random", "n",
-           "dim", "polydispersity", "seed", "solid_fraction"}
+           "dim", "polydispersity", "seed", "seeds", "solid_fraction"}
 #: The dynamic engine's own keys of [loading] (``triaxial(..., method="dem")``).
 _DEM = ("inertial_number", "damping", "density", "record_every", "peak_window")
 _LOADING = {"kind", "pressure", "axial_strain", "increments", "consolidation_increments",
@@ -83,7 +84,28 @@ def _triaxial_parameters():
 
 def read_config(path, progress=None) -> tuple[Assembly, dict]:
     """The assembly and the keyword arguments of :func:`triaxial` of a TOML file;
-    ``progress`` (with a method ``phase(text)``) hears how a random packing is made."""
+    ``progress`` (with a method ``phase(text)``) hears how a random packing is made. A file
+    with ``seeds`` describes an ensemble (:func:`read_samples`)."""
+    assemblies, seeds, loading = read_samples(path, progress=progress)
+    if seeds is not None:
+        raise FrictionRulesError(f"{path}: [sample] seeds = {seeds!r} describes an ensemble; "
+                                 "constraint: one sample (seed) for a single run")
+    return assemblies[0], loading
+
+
+def _check_seeds(seeds, where: str) -> list:
+    if (not isinstance(seeds, (list, tuple)) or not seeds
+            or any(isinstance(s, bool) or not isinstance(s, int) or s < 0 for s in seeds)):
+        raise FrictionRulesError(f"{where} = {seeds!r} violates: a non-empty list of integers >= 0")
+    if len(set(seeds)) != len(seeds):
+        raise FrictionRulesError(f"{where} = {list(seeds)!r} violates: distinct seeds")
+    return [int(s) for s in seeds]
+
+
+def read_samples(path, seeds=None, progress=None) -> tuple[list, list | None, dict]:
+    """``(assemblies, seeds, loading)`` of a TOML file: one random sample per seed where
+    ``seeds`` (the argument, else ``[sample] seeds``) is given, else the file's one sample
+    (``seeds`` None); ``loading`` the keyword arguments of :func:`triaxial`."""
     from .._toml import load_toml
     file = Path(path)
     doc = load_toml(file)
@@ -98,24 +120,35 @@ def read_config(path, progress=None) -> tuple[Assembly, dict]:
     if "law" not in model_t or not isinstance(model_t["law"], dict):
         raise FrictionRulesError(f"{file}: missing [model.law] table")
     _check_loading(loading, file)
+    if "seeds" in sample:
+        if "seed" in sample:
+            raise FrictionRulesError(f"{file}: [sample] seed and seeds violates: one of them")
+        listed = _check_seeds(sample.pop("seeds"), f"{file}: [sample] seeds")
+        seeds = listed if seeds is None else seeds
+    if seeds is not None:
+        seeds = _check_seeds(seeds, "seeds")
+        if not sample.get("random", False):
+            raise FrictionRulesError(f"seeds = {seeds!r} violates: random = true in [sample] of "
+                                     f"{file} (a lattice has no seed)")
     law = law_from_mapping(model_t.pop("law"), where=f"{file}: [model.law]")
     try:
         model = ContactModel(law, **model_t)
     except TypeError as exc:
         raise FrictionRulesError(f"{file}: [model]: {exc}") from None
+    if "kind" not in loading or "pressure" not in loading:
+        raise FrictionRulesError(f"{file}: [loading] needs kind and pressure")
     common = {k: sample[k] for k in ("reference_axis", "tolerance") if k in sample}
     if sample.get("random", False):
         for key in ("n", "dim"):
             if key not in sample:
                 raise FrictionRulesError(f"{file}: [sample] random = true needs {key}")
         opts = {k: sample[k] for k in ("radius", "polydispersity", "seed", "solid_fraction") if k in sample}
-        assembly = Assembly.random(sample["n"], sample["dim"], model, **opts, **common,
-                                   progress=progress)
-    else:
-        if "lattice" not in sample:
-            raise FrictionRulesError(f"{file}: [sample] needs lattice = NAME or random = true")
-        opts = {k: sample[k] for k in ("frame", "cells", "radius") if k in sample}
-        assembly = Assembly.lattice(sample["lattice"], model, **opts, **common)
-    if "kind" not in loading or "pressure" not in loading:
-        raise FrictionRulesError(f"{file}: [loading] needs kind and pressure")
-    return assembly, loading
+        if seeds is None:
+            return [Assembly.random(sample["n"], sample["dim"], model, **opts, **common,
+                                    progress=progress)], None, loading
+        return [Assembly.random(sample["n"], sample["dim"], model, **opts, **common, seed=s,
+                                progress=progress) for s in seeds], seeds, loading
+    if "lattice" not in sample:
+        raise FrictionRulesError(f"{file}: [sample] needs lattice = NAME or random = true")
+    opts = {k: sample[k] for k in ("frame", "cells", "radius") if k in sample}
+    return [Assembly.lattice(sample["lattice"], model, **opts, **common)], None, loading

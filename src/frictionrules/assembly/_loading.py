@@ -23,7 +23,8 @@ from ._geometry import Assembly
 from ._results import ContactSnapshot, SampleState, TriaxialResult
 from ._solver import CELLS, components, move, solve_increment, stress_of, triaxial_free
 
-__all__ = ["Control", "triaxial", "load_cell", "initial_state", "run", "KINDS", "METHODS"]
+__all__ = ["Control", "triaxial", "check_triaxial", "load_cell", "initial_state", "run", "KINDS",
+           "METHODS"]
 
 #: The triaxial tests of :func:`triaxial`.
 KINDS = ("axisymmetric", "plane_strain", "biaxial")
@@ -215,6 +216,39 @@ def check_kind(kind: str, dim: int) -> None:
         raise FrictionRulesError(f"kind = {kind!r} violates: {want} for an assembly of dim = {dim}")
 
 
+def check_triaxial(assembly: Assembly, kind: str, *, pressure: float, axial_strain: float,
+                   increments, consolidation_increments, rtol, max_cuts, failure_slope, max_time,
+                   consolidation: str, method: str, inertial_number, damping, density,
+                   record_every, peak_window, cell: str) -> tuple[float, float]:
+    """The arguments of :func:`triaxial` checked as it checks them before it runs (the options
+    of the method that runs; those of the other are ignored, as by :func:`triaxial`); returns
+    the pressure and the axial strain as floats. :func:`ensemble` checks every run with it
+    before any runs."""
+    check_kind(kind, assembly.dim)
+    check_cell(cell)
+    p = check_scalar("pressure", pressure, lo=0.0, lo_open=True)
+    a = check_scalar("axial_strain", axial_strain, lo=0.0, lo_open=True, hi=0.5)
+    check_method(method)
+    _check_common(failure_slope, max_time)
+    consolidation_of(assembly, consolidation)
+    if method == "dem":
+        from ._dem import check_dem_options
+        opts = check_dem_options(inertial_number=inertial_number, damping=damping,
+                                 density=density, record_every=record_every,
+                                 peak_window=peak_window)
+        if opts["record_every"] > a:
+            raise FrictionRulesError(f"record_every = {opts['record_every']!r} violates: at most "
+                                     f"axial_strain = {a!r}")
+        return p, a
+    for name, value, lo in (("increments", increments, 1), ("consolidation_increments",
+                                                             consolidation_increments, 1),
+                            ("max_cuts", max_cuts, 0)):
+        if not isinstance(value, (int, np.integer)) or value < lo:
+            raise FrictionRulesError(f"{name} = {value!r} violates: an integer >= {lo}")
+    check_scalar("rtol", rtol, lo=0.0, lo_open=True, hi=1e-2)
+    return p, a
+
+
 def triaxial(assembly: Assembly, kind: str, *, pressure: float, axial_strain: float = 0.01,
              increments: int = 100, consolidation_increments: int = 1, rtol: float = 1e-10,
              max_cuts: int = 8, failure_slope: float = 1e-2, progress=None,
@@ -298,28 +332,19 @@ def triaxial(assembly: Assembly, kind: str, *, pressure: float, axial_strain: fl
     -------
     TriaxialResult
     """
-    check_kind(kind, assembly.dim)
-    check_cell(cell)
-    p = check_scalar("pressure", pressure, lo=0.0, lo_open=True)
-    a = check_scalar("axial_strain", axial_strain, lo=0.0, lo_open=True, hi=0.5)
-    check_method(method)
+    p, a = check_triaxial(assembly, kind, pressure=pressure, axial_strain=axial_strain,
+                          increments=increments, consolidation_increments=consolidation_increments,
+                          rtol=rtol, max_cuts=max_cuts, failure_slope=failure_slope,
+                          max_time=max_time, consolidation=consolidation, method=method,
+                          inertial_number=inertial_number, damping=damping, density=density,
+                          record_every=record_every, peak_window=peak_window, cell=cell)
     if method == "dem":
-        _check_common(failure_slope, max_time)
         from ._dem import dem_triaxial
         return dem_triaxial(assembly, kind, pressure=p, axial_strain=a, failure_slope=failure_slope,
                             consolidation=consolidation, progress=progress, max_time=max_time,
                             run_file=run_file, inertial_number=inertial_number, damping=damping,
                             density=density, record_every=record_every, peak_window=peak_window,
                             cell=cell)
-    for name, value, lo in (("increments", increments, 1), ("consolidation_increments",
-                                                             consolidation_increments, 1),
-                            ("max_cuts", max_cuts, 0)):
-        if not isinstance(value, (int, np.integer)) or value < lo:
-            raise FrictionRulesError(f"{name} = {value!r} violates: an integer >= {lo}")
-    check_scalar("rtol", rtol, lo=0.0, lo_open=True, hi=1e-2)
-    check_scalar("failure_slope", failure_slope, lo=0.0, lo_open=True, hi=1.0)
-    if max_time is not None:
-        check_scalar("max_time", max_time, lo=0.0, lo_open=True)
     consolidation = consolidation_of(assembly, consolidation)
     cons = _consolidation_controls(assembly.dim, p, int(consolidation_increments))
     shear = _shearing_controls(kind, assembly.dim, p, a, int(increments), cell)

@@ -1,6 +1,8 @@
 """``frictionrules assembly CONFIG.toml --out run.h5``: load a grain assembly (sample, laws,
 loading from TOML), writing the HDF5 run file as the run goes; a run file that exists is
-resumed. ``method = "dem"`` in ``[loading]`` runs the dynamic engine."""
+resumed. ``method = "dem"`` in ``[loading]`` runs the dynamic engine. With seeds (``--seeds``
+or ``[sample] seeds``) an ensemble of random samples runs (``_ensemble``), ``--out`` its run
+folder."""
 
 from __future__ import annotations
 
@@ -16,10 +18,14 @@ def register(sub) -> None:
                     "[loading] (kind, pressure, axial_strain, increments; or method = \"dem\" and "
                     "the dynamic engine's options) from CONFIG.toml, run the test, write every "
                     "increment (record) to the HDF5 run file (--out; an existing file of the same "
-                    "run resumes) and print the peak. See docs/assembly.md.",
+                    "run resumes) and print the peak. With seeds (--seeds or [sample] seeds), an "
+                    "ensemble: one run per seed in the folder --out, the means with their 95 % "
+                    "confidence intervals printed and written. See docs/assembly.md.",
         epilog="example: frictionrules assembly examples/assembly_fcc.toml --out fcc.h5 --figure fcc.png")
     p.add_argument("config", metavar="CONFIG.toml", help="run description")
-    p.add_argument("--out", metavar="RUN.h5", required=True, help="HDF5 run file (.h5, .hdf5)")
+    p.add_argument("--out", metavar="RUN.h5", required=True,
+                   help="HDF5 run file (.h5, .hdf5); with seeds, a folder: one run file per seed "
+                        "and the summary (summary.csv, summary.json)")
     p.add_argument("--figure", metavar="FILE", help="stress ratio and volumetric strain against "
                    "axial strain; method \"dem\": also the coordination, the sliding fraction and "
                    "the force network at the last record (.png, .svg, .pdf)")
@@ -28,25 +34,58 @@ def register(sub) -> None:
     p.add_argument("--vtk-every", type=positive_int, default=1, metavar="N",
                    help="write every N-th record to --vtk (the first and the last always)")
     p.add_argument("--max-time", type=finite_float, metavar="SECONDS",
-                   help="stop after this time (the file keeps every finished increment or record)")
+                   help="stop after this time (the file keeps every finished increment or record); "
+                        "with seeds, the time of the whole ensemble (runs not started are "
+                        "started by the next call)")
+    p.add_argument("--seeds", type=seed_list, metavar="S1,S2,...",
+                   help="an ensemble: the random sample of [sample] with each of these seeds "
+                        "(instead of [sample] seeds); prints and writes the means of the peak and "
+                        "critical friction angles, the final volumetric strain, coordination and "
+                        "sliding fraction with their 95 %% confidence intervals")
+    where = p.add_mutually_exclusive_group()
+    where.add_argument("--workers", type=positive_int, default=None, metavar="N",
+                       help="an ensemble's runs on a local Dask cluster of N worker processes "
+                            "(needs the extra frictionrules[dask])")
+    where.add_argument("--scheduler", metavar="ADDRESS",
+                       help="an ensemble's runs on the Dask cluster whose scheduler is at ADDRESS "
+                            "(tcp://host:8786)")
     add_quiet(p)
     p.set_defaults(run=run)
+
+
+def seed_list(text: str) -> list:
+    """argparse type: comma-separated distinct integers >= 0 (``1,2,3``)."""
+    import argparse
+    try:
+        seeds = [int(t) for t in text.split(",")]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} violates: comma-separated integers "
+                                         "(1,2,3)") from None
+    if any(s < 0 for s in seeds) or len(set(seeds)) != len(seeds):
+        raise argparse.ArgumentTypeError(f"{text!r} violates: distinct integers >= 0")
+    return seeds
 
 
 def run(args) -> int:
     from .._output import FIGURE_SUFFIXES, check_folder, check_output
     from .._threads import prefer_openmp
-    from ..assembly import read_config, triaxial
+    from ..assembly import read_samples, triaxial
     from ..errors import FrictionRulesError
     from . import _common
 
-    prefer_openmp()  # this process runs the engine and does not fork
-    out = check_output(args.out, (".h5", ".hdf5"))
     figure = check_output(args.figure, FIGURE_SUFFIXES, name="--figure") if args.figure else None
     vtk = check_folder(args.vtk, name="--vtk") if args.vtk else None
+    if args.seeds is not None or _lists_seeds(args.config):
+        from ._ensemble import run_ensemble
+        return run_ensemble(args, figure)
+    if args.workers or args.scheduler:
+        raise FrictionRulesError("--workers/--scheduler: constraint: an ensemble (--seeds or "
+                                 "[sample] seeds)")
+    prefer_openmp()  # this process runs the engine and does not fork
+    out = check_output(args.out, (".h5", ".hdf5"))
     with _common.progress(args, "assembly", unit="increments") as bar:
         bar.phase("preparing the sample")
-        assembly, loading = read_config(args.config, progress=bar)
+        (assembly,), _, loading = read_samples(args.config, progress=bar)
         dem = loading.get("method", "implicit") == "dem"
         if vtk is not None and not dem:
             raise FrictionRulesError(f"--vtk = {args.vtk!r} needs method = \"dem\" in [loading] of "
@@ -71,6 +110,13 @@ def run(args) -> int:
         files = write_vtk(result, vtk, every=args.vtk_every)
         print(f"wrote {', '.join(str(f) for f in files)}")
     return _exit_code(result, dem)
+
+
+def _lists_seeds(config) -> bool:
+    """Whether the TOML file's [sample] lists seeds (an ensemble)."""
+    from .._toml import load_toml
+    sample = load_toml(config).get("sample", {})
+    return isinstance(sample, dict) and "seeds" in sample
 
 
 def _exit_code(result, dem: bool) -> int:

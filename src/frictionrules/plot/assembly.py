@@ -2,7 +2,8 @@
 against axial strain), the coordination and sliding fraction of a dynamic run, the
 contact-force network, and the roses of contact normals and of mobilized friction. Each
 function takes ``ax=None`` (or ``axes``) and returns what it drew on; :func:`plot_dem_run`
-puts a dynamic run's four panels on one figure.
+puts a dynamic run's four panels on one figure; :func:`plot_ensemble` draws the mean curves of
+an ensemble with their confidence bands.
 """
 
 from __future__ import annotations
@@ -10,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 __all__ = ["plot_response", "plot_coordination", "force_network", "normal_rose", "friction_rose",
-           "plot_dem_run"]
+           "plot_dem_run", "plot_ensemble"]
 
 
 def _axes(ax, polar=False, size=(5.0, 4.0)):
@@ -217,3 +218,43 @@ def plot_dem_run(result, increment: int = -1, plane: str = "xz"):
                          f"(width ∝ N)", fontsize=9)
     fig.tight_layout()
     return axes
+
+
+_CURVE_LABELS = {"stress_ratio": r"stress ratio $\sigma_1/\sigma_3$",
+                 "friction_angle": r"mobilized friction angle $\varphi$ (deg)",
+                 "volumetric_strain": r"volumetric strain $\varepsilon_v$ (compression > 0)",
+                 "coordination": r"coordination $Z$"}
+
+
+def plot_ensemble(result, quantity: str = "stress_ratio", ax=None, condition=None):
+    r"""The mean curve of ``quantity`` against the axial strain over the completed runs of an
+    :class:`~frictionrules.EnsembleResult`, with its 95 % band (the Student-t confidence
+    interval of the mean at each strain, :meth:`~frictionrules.EnsembleResult.curve`); one
+    curve per condition (or only ``condition``). Where a condition has one run, its curve is
+    drawn without a band and the legend says ``n = 1``. Returns the Axes.
+
+    ``quantity``: "stress_ratio" (σ1/σ3), "friction_angle" (:math:`\sin\varphi = (R-1)/(R+1)`,
+    degrees), "volumetric_strain" (compression positive) or "coordination".
+    """
+    ax = _axes(ax)
+    conditions = range(len(result.summary)) if condition is None else [condition]
+    for c in conditions:
+        curve = result.curve(quantity, c)
+        if curve.n == 0:
+            continue
+        s = result.summary[c]
+        where = ", ".join(f"{k} = {v}" for k, v in s.options.items())
+        label = f"{where + ', ' if where else ''}n = {curve.n}"
+        if len(result.summary) > 1 and not where:
+            label = f"condition {c}, {label}"
+        (line,) = ax.plot(curve.axial_strain, curve.mean, label=label)
+        if curve.n > 1:
+            ax.fill_between(curve.axial_strain, curve.low, curve.high, color=line.get_color(),
+                            alpha=0.25, lw=0)
+    ax.set_ylabel(_CURVE_LABELS.get(quantity, quantity))
+    _strain_axis(ax)
+    ax.ticklabel_format(axis="y", style="sci", scilimits=(-2, 3), useMathText=True)
+    ax.set_title("mean of the runs, 95 % band", fontsize=9)
+    if ax.lines:
+        ax.legend(fontsize=7)
+    return ax

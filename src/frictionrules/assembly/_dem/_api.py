@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...errors import FrictionRulesError, check_scalar
+from ...errors import check_scalar
 from .._consolidation import consolidation_of
 from ._protocol import mixed_stage, run_test, triaxial_stage
 
@@ -23,10 +23,7 @@ def check_dem_options(*, inertial_number, damping, density, record_every, peak_w
 def dem_triaxial(assembly, kind: str, *, pressure: float, axial_strain: float, failure_slope: float,
                  consolidation: str, progress, max_time, run_file, cell: str, **dem) -> object:
     """``triaxial(..., method="dem")`` (arguments checked by the caller but ``dem``)."""
-    opts = check_dem_options(**dem)
-    if opts["record_every"] > axial_strain:
-        raise FrictionRulesError(f"record_every = {opts['record_every']!r} violates: at most "
-                                 f"axial_strain = {axial_strain!r}")
+    opts = check_dem_options(**dem)  # record_every <= axial_strain: checked by check_triaxial
     options = dict(kind=kind, method="dem", cell=cell, pressure=pressure, axial_strain=axial_strain,
                    failure_slope=failure_slope, consolidation=consolidation_of(assembly, consolidation),
                    **opts)
