@@ -50,7 +50,8 @@ _CONTACT_FRICTIONLESS = 5
 
 
 class Assembled:
-    """The problem's pieces: ``J`` (CSR, rows in the law frames), ``W`` (CSR), ``q``; per
+    """The problem's pieces: ``J``, ``W`` (CSR, or dense arrays as MuJoCo stores them; rows in
+    the law frames), ``q``; per
     contact the world frame rows ``frames`` (nc, 3, 3), ``pos``, ``geom1``, ``geom2``,
     ``gap`` and the count of axis fallbacks."""
 
@@ -96,17 +97,39 @@ def _csr(sp, values, colind, rowadr, rownnz, shape):
 
 
 def _matrices(sp, mujoco, model, data):
-    """``J`` (nefc, nv) and ``W = efc_AR - diag(efc_R)`` (nefc, nefc), CSR."""
+    """``J`` (nefc, nv) and ``W = efc_AR - diag(efc_R)`` (nefc, nefc): CSR for a sparse model
+    (``opt.jacobian``), dense arrays otherwise (MuJoCo's own choice of layout)."""
     nefc, nv = int(data.nefc), int(model.nv)
+    R = np.asarray(data.efc_R[:nefc])
     if mujoco.mj_isSparse(model):
         J = _csr(sp, data.efc_J, data.efc_J_colind, data.efc_J_rowadr, data.efc_J_rownnz, (nefc, nv))
-        AR = _csr(sp, data.efc_AR, data.efc_AR_colind, data.efc_AR_rowadr, data.efc_AR_rownnz, (nefc, nefc))
-    else:
-        J = sp.csr_matrix(np.asarray(data.efc_J[:nefc * nv]).reshape(nefc, nv))
-        AR = sp.csr_matrix(np.asarray(data.efc_AR[:nefc * nefc]).reshape(nefc, nefc))
-    W = (AR - sp.diags(np.asarray(data.efc_R[:nefc]))).tocsr()
-    W.eliminate_zeros()
+        W = _csr(sp, data.efc_AR, data.efc_AR_colind, data.efc_AR_rowadr, data.efc_AR_rownnz, (nefc, nefc))
+        rows = np.repeat(np.arange(nefc), np.diff(W.indptr))
+        diag = W.indices == rows
+        W.data[diag] -= R[rows[diag]]
+        return J, W
+    J = np.array(data.efc_J[:nefc * nv]).reshape(nefc, nv)
+    W = np.array(data.efc_AR[:nefc * nefc]).reshape(nefc, nefc)
+    W[np.diag_indices(nefc)] -= R
     return J, W
+
+
+def _rotate(sp, J, W, C):
+    """``J' = Q J``, ``W' = Q W Q^T`` with ``Q`` block-diagonal, per contact ``[[1, 0], [0,
+    C_a]]`` (``C_a`` turns MuJoCo's tangents to the law's)."""
+    nc = C.shape[0]
+    if not sp.issparse(J):
+        J3 = J.reshape(nc, 3, -1).copy()
+        J3[:, 1:] = np.einsum("kij,kjv->kiv", C, J3[:, 1:])
+        W4 = W.reshape(nc, 3, nc, 3).copy()
+        W4[:, 1:] = np.einsum("kij,kjlm->kilm", C, W4[:, 1:])
+        W4[:, :, :, 1:] = np.einsum("lij,kmlj->kmli", C, W4[:, :, :, 1:])
+        return J3.reshape(3 * nc, -1), W4.reshape(3 * nc, 3 * nc)
+    blocks = np.zeros((nc, 3, 3))
+    blocks[:, 0, 0] = 1.0
+    blocks[:, 1:, 1:] = C
+    Q = sp.bsr_matrix((blocks, np.arange(nc), np.arange(nc + 1)), shape=(3 * nc, 3 * nc)).tocsr()
+    return (Q @ J).tocsr(), (Q @ W @ Q.T).tocsr()
 
 
 def _law_frames(frames, owner, geom_xmat, axes):
@@ -161,16 +184,8 @@ def assemble(sp, mujoco, model, data, scene, baumgarte: float) -> Assembled:
     h = float(model.opt.timestep)
     v = np.asarray(data.qvel) + h * np.asarray(data.qacc_smooth)
     if law_frames is not frames:
-        # Q: per contact [[1, 0], [0, C]] with C the in-plane rotation from MuJoCo's tangents
-        # to the law's, C[i, j] = t'_i . t_j; J' = Q J, W' = Q W Q^T
-        C = np.einsum("kid,kjd->kij", law_frames[:, 1:], frames[:, 1:])
-        blocks = np.zeros((active.size, 3, 3))
-        blocks[:, 0, 0] = 1.0
-        blocks[:, 1:, 1:] = C
-        nc = active.size
-        Q = sp.bsr_matrix((blocks, np.arange(nc), np.arange(nc + 1)), shape=(3 * nc, 3 * nc)).tocsr()
-        J = (Q @ J).tocsr()
-        W = (Q @ W @ Q.T).tocsr()
+        # C[a, i, j] = t'_i . t_j: MuJoCo's tangents to the law's, within the contact plane
+        J, W = _rotate(sp, J, W, np.einsum("kid,kjd->kij", law_frames[:, 1:], frames[:, 1:]))
     q = J @ v
     gap = np.asarray(con.dist[:ncon])[active]
     q[0::3] += np.where(gap > 0, gap, baumgarte * gap) / h

@@ -47,7 +47,10 @@ def _check_law(law, where: str):
         FrictionContactProblem(np.eye(3), np.zeros(3), [law])
     except FrictionRulesError as exc:
         raise FrictionRulesError(f"{where}: {exc}") from None
-    return float(law) if isinstance(law, (int, float, np.integer, np.floating)) else law
+    if isinstance(law, (int, float, np.integer, np.floating)):
+        from ..laws import Coulomb
+        return Coulomb(float(law))   # one object per entry: the problem caches its cone by id
+    return law
 
 
 class Scene:
