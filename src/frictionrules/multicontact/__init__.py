@@ -4,7 +4,7 @@
 FCLIB, or an elliptic orthotropic cone, or a dilatant / non-associated potential);
 :func:`solve` runs one of the methods of :data:`METHODS` (``"auto"``, ``"nsgs"``,
 ``"newton"``, ``"prox"``, ``"admm"``, ``"polish"``) to Siconos' error measure
-(:func:`fc3d_error`), with named options records (:class:`NSGSOptions`,
+(:func:`fc3d_error`; :func:`law_error` for laws that are not elliptic cones), with named options records (:class:`NSGSOptions`,
 :class:`NewtonOptions`, :class:`ProxOptions`, :class:`ADMMOptions`, :class:`PolishOptions`).
 Numba kernels are imported when a solver first runs. Batches of FCLIB files are solved by
 :func:`frictionrules.batch.solve_many`, above the file layer.
@@ -15,8 +15,10 @@ from ._options import ADMMOptions, IterationInfo, NewtonOptions, NSGSOptions, Po
 from ._relaxation import RelaxationComparison, compare_relaxation
 from ._solve import solve, solve_batch, thread_limits
 from .error import fc3d_error, project_cone
+from ._law_path import contact_dissipation, law_error
 from .problem import FrictionContactProblem, Solution
 
 __all__ = ["FrictionContactProblem", "Solution", "solve", "solve_batch", "fc3d_error", "project_cone", "METHODS",
            "SolverMethod", "NSGSOptions", "NewtonOptions", "ProxOptions", "ADMMOptions", "PolishOptions",
-           "IterationInfo", "compare_relaxation", "RelaxationComparison", "thread_limits"]
+           "IterationInfo", "compare_relaxation", "RelaxationComparison", "thread_limits", "law_error",
+           "contact_dissipation"]

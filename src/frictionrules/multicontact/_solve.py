@@ -169,6 +169,13 @@ def solve(problem: FrictionContactProblem, method: str = "auto", tol: float = 1e
         ``seconds`` and ``cpu_seconds`` the wall and CPU time of the call.
     """
     t0 = time.perf_counter()
+    if getattr(problem, "path", "cone") == "law":
+        tol, max_iter, time_limit, blas_threads, opts = _check(problem, method, tol, max_iter, time_limit,
+                                                               blas_threads, callback, options)
+        from ._law_path import solve_law
+        with thread_limits(blas_threads):
+            return solve_law(problem, method, tol, max_iter, r0, opts, callback, time_limit, t0,
+                             time.thread_time())
     if (type(problem) is FrictionContactProblem and method in SMALL_MODES and problem.nc <= SMALL_MAX
             and problem.frames is None and callback is None and time_limit is None and options is None
             and max_iter is None and r0 is None and type(tol) is float and 0.0 <= tol < np.inf
@@ -254,7 +261,7 @@ def solve_batch(problems, method: str = "auto", tol: float = 1e-8, max_iter: int
     out: list = [None] * len(problems)
     small = _small_path()
     batch = [k for k, p in enumerate(problems) if type(p) is FrictionContactProblem and p.nc <= SMALL_MAX
-             and p.frames is None]
+             and p.frames is None and p.path == "cone"]
     if method in SMALL_MODES and small.CLOCK is not None and batch:
         tol = float(tol)
         limit = METHODS[method].max_iter if max_iter is None else int(max_iter)

@@ -63,6 +63,10 @@ def fc3d_error(problem, r, u=None) -> float:
     -------
     float
     """
+    if problem.path != "cone":
+        raise FrictionRulesError("problem = the law path (a law that is not an elliptic cone) "
+                                 "violates: fc3d_error needs every contact's law to declare the "
+                                 "capability 'cone'; use law_error")
     n = 3 * problem.nc
     r = check_finite("r", r).ravel()
     if r.size != n:

@@ -34,7 +34,17 @@ Accepted laws: a number (Coulomb ``mu``) and every law that declares the capabil
 ``A = R(angle) diag(mu_x, mu_y)/sqrt(mu_x mu_y)``): :class:`~frictionrules.Coulomb`
 (``dilatant`` gives ``d = 1``), :class:`~frictionrules.EllipticOrthotropic` (``d = 0``), a
 law with slip hardening of these (at each contact's state κ) and a user law whose symbolic
-form is such a cone. Any other law is refused with an error naming the missing capability.
+form is such a cone.
+
+**The law path.** A law without the capability ``"cone"`` whose limit condition f and
+potential g are cones in (T, N) — homogeneous of degree one (the traits ``degree`` and
+``slip_degree`` derived from its symbolic form) — without internal variables is accepted too:
+:class:`~frictionrules.TransformedCoulomb` (1.17)–(1.18), :class:`~frictionrules.Huber`
+(1.16), a :class:`~frictionrules.UserLaw` with g ≠ f, dilatant or not. A problem with such a
+contact (``path == "law"``) is solved contact by contact with each law's own return map
+along its potential (:mod:`frictionrules.multicontact._law_path`: the fixed point
+:math:`r = P(r - K u)`), every contact of it, floats as ``Coulomb(mu)``. Any other law is
+refused with an error naming the missing property.
 """
 
 from __future__ import annotations
@@ -76,8 +86,8 @@ def _ellipse_frame(mu_x: float, mu_y: float, angle: float):
 
 def _law_params(law, index: int, q=None):
     """``(mu_bar, d, A)`` of the law at contact ``index`` through its "cone" capability
-    (``A`` None for an isotropic cone)."""
-    from ..laws import FrictionLaw, require
+    (``A`` None for an isotropic cone); None for a law of the law path (checked)."""
+    from ..laws import FrictionLaw
     if not isinstance(law, FrictionLaw):
         try:
             mu = float(law)
@@ -87,7 +97,10 @@ def _law_params(law, index: int, q=None):
         if not np.isfinite(mu) or mu < 0:
             raise FrictionRulesError(f"mu[{index}] = {mu!r} violates mu >= 0 (finite)")
         return mu, 0.0, None
-    require(law, "cone", f"FrictionContactProblem: the law of contact {index}")
+    if "cone" not in law.capabilities:
+        from ._law_check import check_law
+        check_law(law, index)
+        return None
     cone = law.cone(q)
     if cone.mu_x == cone.mu_y:
         return cone.mu_x, cone.dilatancy, None
@@ -143,7 +156,12 @@ class FrictionContactProblem:
     dilatancy : (nc,) array
         Dilatancy ratio ``d`` of each contact.
     frames : (nc, 2, 2) array or None
-        ``A_a`` with :math:`r_T = A_a\tilde r_T`; None when every contact is isotropic.
+        ``A_a`` with :math:`r_T = A_a\tilde r_T`; None when every contact is isotropic (and on
+        the law path).
+    path : {"cone", "law"}
+        ``"cone"``: every contact reduced to an elliptic cone (the solvers of
+        :data:`~frictionrules.METHODS`); ``"law"``: some law is not (see the module docstring;
+        ``mu_bar`` and ``dilatancy`` are NaN at its contacts).
     """
 
     def __init__(self, W, q, mu, *, title: str = "", state=None):
@@ -164,15 +182,21 @@ class FrictionContactProblem:
         mbar, dil, frames = np.empty(self.nc), np.zeros(self.nc), np.empty((self.nc, 2, 2))
         frames[:] = np.eye(2)
         any_frame = False
+        general = False
         for a, (law, qa) in enumerate(zip(laws, states)):
             number = isinstance(law, (int, float, np.floating, np.integer))
             key = None if number or qa is not None else id(law)
             if key is not None and key in cache:
-                m, d, A = cache[key]
+                params = cache[key]
             else:
-                m, d, A = _law_params(law, a, qa)
+                params = _law_params(law, a, qa)
                 if key is not None:
-                    cache[key] = (m, d, A)
+                    cache[key] = params
+            if params is None:
+                general = True
+                mbar[a], dil[a] = np.nan, np.nan
+                continue
+            m, d, A = params
             mbar[a], dil[a] = m, d
             if A is not None:
                 frames[a] = A
@@ -182,7 +206,13 @@ class FrictionContactProblem:
         self.states = states
         self.mu_bar = mbar
         self.dilatancy = dil
-        self.frames = frames if any_frame else None
+        self.frames = frames if any_frame and not general else None
+        self.path = "law" if general else "cone"
+        if general:
+            for a, law in enumerate(self.laws):
+                if not isinstance(law, float):
+                    from ._law_check import check_law
+                    check_law(law, a)
         self.title = str(title)
 
     def __repr__(self) -> str:
@@ -191,7 +221,7 @@ class FrictionContactProblem:
 
     def coulomb_mu(self) -> np.ndarray:
         """The Coulomb coefficients; raises if a contact has another law (FCLIB cannot store it)."""
-        if self.frames is not None or np.any(self.dilatancy != 0):
+        if self.path != "cone" or self.frames is not None or np.any(self.dilatancy != 0):
             raise FrictionRulesError("only problems with plain Coulomb contacts (no dilatancy, "
                                      "isotropic) can be written to FCLIB")
         return self.mu_bar.copy()
@@ -209,6 +239,10 @@ class FrictionContactProblem:
         ``dilatancy`` is what the solvers use.
         """
         import copy
+        if self.path != "cone":
+            raise FrictionRulesError("problem = the law path (a law that is not an elliptic cone) "
+                                     "violates: associated() needs every contact's law to declare "
+                                     "the capability 'cone'")
         out = copy.copy(self)
         out.dilatancy = np.ones(self.nc)
         out.title = f"{self.title} (associated)" if self.title else "associated"
@@ -270,6 +304,10 @@ class Solution:
         The method that ran (for ``"auto"``, the stages joined by ``+``, e.g. ``"nsgs+prox"``).
     seconds : float
         Wall time of the call (compilation of the kernels excluded when cached).
+    error_measure : str
+        What ``error`` measures: ``"fc3d"`` Siconos' (:func:`~frictionrules.multicontact.fc3d_error`),
+        ``"law"`` the natural map of the contacts' own laws
+        (:func:`~frictionrules.multicontact.law_error`, the law path).
     cpu_seconds : float
         CPU time of the call in the calling thread (``time.thread_time``): the solver's own
         work, BLAS included (it runs in that thread under ``blas_threads=1``), other jobs on
@@ -290,6 +328,7 @@ class Solution:
     seconds: float = 0.0
     reason: str = ""
     cpu_seconds: float = 0.0
+    error_measure: str = "fc3d"
 
     @classmethod
     def _record(cls, r, u, error, iterations, converged, history, history_iterations, method, seconds, reason,

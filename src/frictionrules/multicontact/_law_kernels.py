@@ -1,0 +1,179 @@
+r"""Numba kernels of the law path (:mod:`._law_path`): every contact's own return map.
+
+A contact's law enters as its compiled contact update
+(:func:`frictionrules.contact.contact_update`: the law's step and general return generated
+from its symbolic form, called by address), so this module is compiled once for every law.
+With the contact's state at zero and the displacement increment chosen so that the elastic
+trial force is ``x``, that update is the law's projection along its potential,
+
+.. math::
+
+    P_K(x) = x - \Delta\lambda\,K\,\nabla G(P_K(x)), \qquad F(P_K(x)) = 0,
+
+(or ``x`` when :math:`F(x) \le 0`, or 0 when :math:`x_N \le 0` or the return ends at the
+apex), with the stiffness ``K = diag(kn, kt, kt)`` of the law's row as metric; in FCLIB's
+ordering ``(N, T1, T2)`` with :math:`F(r) = f(-r_T, r_N)`, :math:`G(r) = g(-r_T, r_N)`.
+The rows given to these kernels carry each contact's ``kt, kn``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .._optional import require
+from ..contact import contact_update
+from ..contact.layout import LAW_KN, LAW_KT, RES_FORCE, RES_SIZE
+
+njit = require("numba", extra="kernels").njit
+
+_EPS = np.finfo(float).eps
+
+
+@njit(cache=True)
+def project_law(fn, row, x0, x1, x2, s, du, s1, res, ws, tan):
+    """:math:`P_K(x)` of one contact, ``x = (x_N, x_T1, x_T2)``: returns ``(r_N, r_T1, r_T2,
+    kind, failed)`` (``kind`` 0 inside: ``P_K(x) = x``, 1 returned, 2 zero). ``s`` is a zero state row (never written); ``du, s1, res, tan`` scratch."""
+    kt, kn = row[LAW_KT], row[LAW_KN]
+    du[0] = -x1 / kt
+    du[1] = -x2 / kt
+    du[2] = -x0 / kn
+    kind, failed = contact_update(fn, row, s, du, s1, res, ws, 0, False, tan)
+    return res[RES_FORCE + 2], -res[RES_FORCE], -res[RES_FORCE + 1], kind, failed
+
+
+@njit(cache=True)
+def scratch(nq):
+    """Zero state row and scratch arrays of :func:`project_law`."""
+    return (np.zeros(6 + nq), np.empty(3), np.empty(6 + nq), np.empty(RES_SIZE),
+            np.empty((3, 3)))
+
+
+@njit(cache=True)
+def csr_matvec(indptr, indices, data, x, q):
+    n = q.size
+    y = np.empty(n)
+    for i in range(n):
+        acc = q[i]
+        for k in range(indptr[i], indptr[i + 1]):
+            acc += data[k] * x[indices[k]]
+        y[i] = acc
+    return y
+
+
+@njit(cache=True)
+def natural_residual(fn, rows, r, u, ws, out):
+    r"""Per contact :math:`r_a - P_{I}(r_a - u_a)` into ``out`` (the rows' stiffnesses must
+    be 1: the identity metric); returns the number of failed projections."""
+    s, du, s1, res, tan = scratch(0)
+    bad = 0
+    for a in range(rows.shape[0]):
+        i = 3 * a
+        p0, p1, p2, _kind, failed = project_law(fn[a], rows[a], r[i] - u[i], r[i + 1] - u[i + 1],
+                                         r[i + 2] - u[i + 2], s, du, s1, res, ws, tan)
+        out[i], out[i + 1], out[i + 2] = r[i] - p0, r[i + 1] - p1, r[i + 2] - p2
+        bad += failed
+    return bad
+
+
+@njit(cache=True)
+def law_error(indptr, indices, data, q, fn, rows, r, norm_q, ws):
+    r"""The normalized natural map :math:`|r - P_I(r - u)|/\max(|q|, |r|, |u|)` and ``u``."""
+    u = csr_matvec(indptr, indices, data, r, q)
+    res = np.empty(r.size)
+    natural_residual(fn, rows, r, u, ws, res)
+    err = np.sqrt(np.sum(res * res))
+    scale = max(norm_q, np.sqrt(np.sum(r * r)), np.sqrt(np.sum(u * u)))
+    if scale > _EPS:
+        err /= scale
+    return err, u
+
+
+@njit(cache=True)
+def _local(A, b, fn, row, r0, r1, r2, local_iter, local_tol, s, du, s1, res, ws, tan):
+    r"""One contact's problem :math:`A r + b \in N_g(r)` with the others frozen: separation
+    (``b_N >= 0``), stick (:math:`r = -A^{-1}b` inside the limit surface), otherwise the
+    fixed point :math:`r = P_K(r - K(Ar + b))` from the contact's last reactions."""
+    if b[0] >= 0.0:
+        return 0.0, 0.0, 0.0
+    # stick: solve A r = -b (3 x 3, Cramer), accepted where the projection keeps it
+    det = (A[0, 0] * (A[1, 1] * A[2, 2] - A[1, 2] * A[2, 1])
+           - A[0, 1] * (A[1, 0] * A[2, 2] - A[1, 2] * A[2, 0])
+           + A[0, 2] * (A[1, 0] * A[2, 1] - A[1, 1] * A[2, 0]))
+    if det != 0.0:
+        c0 = -b[0]
+        c1 = -b[1]
+        c2 = -b[2]
+        s0 = (c0 * (A[1, 1] * A[2, 2] - A[1, 2] * A[2, 1])
+              - A[0, 1] * (c1 * A[2, 2] - A[1, 2] * c2)
+              + A[0, 2] * (c1 * A[2, 1] - A[1, 1] * c2)) / det
+        s1_ = (A[0, 0] * (c1 * A[2, 2] - A[1, 2] * c2)
+               - c0 * (A[1, 0] * A[2, 2] - A[1, 2] * A[2, 0])
+               + A[0, 2] * (A[1, 0] * c2 - c1 * A[2, 0])) / det
+        s2 = (A[0, 0] * (A[1, 1] * c2 - c1 * A[2, 1])
+              - A[0, 1] * (A[1, 0] * c2 - c1 * A[2, 0])
+              + c0 * (A[1, 0] * A[2, 1] - A[1, 1] * A[2, 0])) / det
+        if s0 > 0.0:
+            _p0, _p1, _p2, kind, failed = project_law(fn, row, s0, s1_, s2, s, du, s1, res, ws,
+                                                      tan)
+            if not failed and kind == 0:
+                return s0, s1_, s2
+    kt, kn = row[LAW_KT], row[LAW_KN]
+    for _ in range(local_iter):
+        u0 = A[0, 0] * r0 + A[0, 1] * r1 + A[0, 2] * r2 + b[0]
+        u1 = A[1, 0] * r0 + A[1, 1] * r1 + A[1, 2] * r2 + b[1]
+        u2 = A[2, 0] * r0 + A[2, 1] * r1 + A[2, 2] * r2 + b[2]
+        p0, p1, p2, _kind, failed = project_law(fn, row, r0 - kn * u0, r1 - kt * u1, r2 - kt * u2,
+                                         s, du, s1, res, ws, tan)
+        ch = (p0 - r0) ** 2 + (p1 - r1) ** 2 + (p2 - r2) ** 2
+        nr = p0 * p0 + p1 * p1 + p2 * p2
+        r0, r1, r2 = p0, p1, p2
+        if ch <= local_tol * local_tol * nr:
+            break
+    return r0, r1, r2
+
+
+@njit(cache=True)
+def law_nsgs(indptr, indices, data, D, q, fn, rows_k, rows_1, r, tol, max_iter, hist_err,
+             hist_it, norm_q, max_interval, local_iter, local_tol, ws):
+    """Non-smooth Gauss–Seidel sweeps with :func:`_local` per contact; the error
+    (:func:`law_error`) after the sweeps where the relative change of ``r`` is below ``tol``,
+    at intervals predicted from the linear rate (at most ``max_interval`` sweeps apart) and
+    after the last. Updates ``r`` in place; returns ``(sweeps, error, evaluations)``."""
+    nc = D.shape[0]
+    b = np.empty(3)
+    s, du, s1, res, tan = scratch(0)
+    err = np.inf
+    it = 0
+    nh = 0
+    next_check = 1
+    for it in range(1, max_iter + 1):
+        dr2 = 0.0
+        rr = 0.0
+        for a in range(nc):
+            i = 3 * a
+            for l in range(3):  # b = (W r + q)_a - W_aa r_a
+                acc = q[i + l]
+                for k in range(indptr[i + l], indptr[i + l + 1]):
+                    acc += data[k] * r[indices[k]]
+                b[l] = acc - (D[a, l, 0] * r[i] + D[a, l, 1] * r[i + 1] + D[a, l, 2] * r[i + 2])
+            r0, r1, r2 = _local(D[a], b, fn[a], rows_k[a], r[i], r[i + 1], r[i + 2],
+                                local_iter, local_tol, s, du, s1, res, ws, tan)
+            dr2 += (r0 - r[i]) ** 2 + (r1 - r[i + 1]) ** 2 + (r2 - r[i + 2]) ** 2
+            rr += r0 * r0 + r1 * r1 + r2 * r2
+            r[i], r[i + 1], r[i + 2] = r0, r1, r2
+        light = np.sqrt(dr2 / rr) if rr > 0.0 else np.sqrt(dr2)
+        if it < next_check and light > tol and it < max_iter:
+            continue
+        err, _u = law_error(indptr, indices, data, q, fn, rows_1, r, norm_q, ws)
+        hist_err[nh] = err
+        hist_it[nh] = it
+        nh += 1
+        if err <= tol or not np.isfinite(err):
+            break
+        step = 1
+        if nh >= 2 and 0.0 < err < hist_err[nh - 2]:
+            rate = np.log(err / hist_err[nh - 2]) / (hist_it[nh - 1] - hist_it[nh - 2])
+            predicted = np.log(tol / err) / rate
+            step = int(min(float(max_interval), max(1.0, 0.5 * predicted)))
+        next_check = it + step
+    return it, err, nh
