@@ -207,7 +207,7 @@ def _advance(mujoco, model, data, scene: Scene, previous, p: _Params) -> StepRes
 
 
 def step(model, data, laws, axes=None, *, default=None, previous: StepResult | None = None,
-         baumgarte: float = 0.2, method: str = "auto", tol: float = 1e-10, max_iter: int | None = None,
+         baumgarte: float = 0.2, method: str = "auto", tol: float = 1e-10, max_iter: int | None = 1000,
          warm_distance: float = 0.01) -> StepResult:
     r"""Advance ``data`` by one ``model.opt.timestep`` with the contacts solved by the library.
 
@@ -240,7 +240,11 @@ def step(model, data, laws, axes=None, *, default=None, previous: StepResult | N
         :math:`\beta\,|dist|/h`; a contact at ``0 < dist < margin`` may close within the step.
     method, tol, max_iter
         As in :func:`frictionrules.solve`; ``tol`` is 1e-10 here (at 1e-8, three stacked boxes
-        crept 0.13 mm in 1 s of resting, measured; at 1e-10, 4e-13 m).
+        crept 0.13 mm in 1 s of resting, measured; at 1e-10, 4e-13 m) and ``max_iter`` 1000
+        (a solve that stalls above ``tol``, e.g. a non-associated law sticking where W is
+        singular, would otherwise run the method's own limit, 100,000 NSGS sweeps: seconds
+        per step). A solve stopped above ``tol`` is applied all the same; ``StepResult``
+        and ``Simulator.unconverged`` say so.
     warm_distance : float
         A contact is warm-started from the previous step's contact of the same geom pair
         nearest to it within this distance (model length units).
@@ -279,7 +283,7 @@ class Simulator:
     """
 
     def __init__(self, model, laws, axes=None, *, data=None, default=None, baumgarte: float = 0.2,
-                 method: str = "auto", tol: float = 1e-10, max_iter: int | None = None,
+                 method: str = "auto", tol: float = 1e-10, max_iter: int | None = 1000,
                  warm_distance: float = 0.01):
         self._mujoco = _mujoco()
         self.model = model
