@@ -389,6 +389,7 @@ def test_incline_transformed_variable_rule_eq_1_18():
     assert abs(residual) < 1e-14
     beta_assoc, _ = closed_form(elliptic_force)
     assert beta_assoc < beta < np.pi / 4
+    assert np.degrees(beta) == pytest.approx(29.955, abs=1e-3) and speed == pytest.approx(2.1370, abs=1e-4)
     v, z = slide(fr.TransformedCoulomb(*MU))
     assert direction(v) == pytest.approx(beta, abs=1e-7)
     assert np.linalg.norm(v[:2]) == pytest.approx(speed, rel=1e-7)
