@@ -402,3 +402,24 @@ def test_incline_transformed_rule_turns_with_the_body(yaw):
     v, _ = slide(fr.TransformedCoulomb(*MU), axes={"box": (1.0, 0.0, 0.0)}, yaw=yaw, slope=np.pi / 4 + yaw)
     assert np.cos(direction(v) - beta - yaw) == pytest.approx(1.0, abs=1e-12)
     assert np.linalg.norm(v[:2]) == pytest.approx(speed, rel=1e-7)
+
+
+# ---- MuJoCo's layouts and integrators give the same step ---------------------------------------
+@pytest.mark.parametrize("option", ['jacobian="sparse"', 'integrator="implicitfast"', 'integrator="implicit"',
+                                    'cone="elliptic"'])
+def test_sparse_jacobian_implicit_integrators_and_cones_step_alike(option):
+    """The stack with a turned top box and axes on it, 20 steps: MuJoCo's sparse layout of
+    efc_J / efc_AR (the rows turned by sparse products), the implicit integrators (no damping
+    here: the same update as Euler) and the elliptic cone give the default run's state."""
+    def run(extra):
+        xml = stack_xml(3).replace("<option ", f"<option {extra} ")
+        m = mujoco.MjModel.from_xml_string(xml)
+        sim = Simulator(m, {}, axes={"b2": (1.0, 1.0, 0.0)}, default=fr.EllipticOrthotropic(0.3, 0.6), tol=1e-12)
+        mujoco.mj_forward(m, sim.data)
+        sim.data.qvel[12:14] = 0.5, -0.2                  # the top box launched
+        sim.step(20)
+        return sim.data.qpos.copy(), sim.data.qvel.copy()
+    q0, v0 = run("")
+    q1, v1 = run(option)
+    assert np.abs(v1 - v0).max() < 1e-9 and np.abs(q1 - q0).max() < 1e-11
+    assert np.hypot(q0[14], q0[15]) > 0.01                 # the top box slid (from x = y = 0)
