@@ -423,3 +423,35 @@ def test_sparse_jacobian_implicit_integrators_and_cones_step_alike(option):
     q1, v1 = run(option)
     assert np.abs(v1 - v0).max() < 1e-9 and np.abs(q1 - q0).max() < 1e-11
     assert np.hypot(q0[14], q0[15]) > 0.01                 # the top box slid (from x = y = 0)
+
+
+@pytest.mark.parametrize("jacobian", ["dense", "sparse"])
+def test_W_from_efc_AR_is_J_Minv_JT_and_q_is_the_free_velocity(jacobian):
+    """Stage 2 against an independent product: ``J`` from ``mj_jac`` at each contact point in
+    its frame (geom 2 minus geom 1), ``M^-1 J^T`` from ``mj_solveM``; ``W`` equals ``J M^-1 J^T``
+    and ``q`` equals ``J (qvel + h qacc_smooth)`` plus the gap term."""
+    import scipy.sparse as sp
+
+    from frictionrules.mujoco import _assemble, _scene, _step
+    m = mujoco.MjModel.from_xml_string(stack_xml(3).replace("<option ", f'<option jacobian="{jacobian}" '))
+    data = mujoco.MjData(m)
+    data.qvel[:] = np.random.default_rng(1).normal(scale=0.1, size=m.nv)
+    _step._forward(mujoco, m, data)
+    A = _assemble.assemble(sp, mujoco, m, data, _scene.Scene(mujoco, m, {}, default=0.5), 0.2)
+    rows = []
+    for i in range(data.ncon):
+        c = data.contact[i]
+        jac = []
+        for g in (c.geom1, c.geom2):
+            jp = np.zeros((3, m.nv))
+            mujoco.mj_jac(m, data, jp, None, c.pos, m.geom_bodyid[g])
+            jac.append(jp)
+        rows.append(c.frame.reshape(3, 3) @ (jac[1] - jac[0]))
+    J = np.vstack(rows)
+    X = np.zeros_like(J)
+    mujoco.mj_solveM(m, data, X, J.copy())
+    W = A.W.toarray() if sp.issparse(A.W) else A.W
+    assert np.abs(W - J @ X.T).max() < 1e-13 * np.abs(W).max()
+    gap = np.repeat(A.gap, 3) * np.tile([1.0, 0.0, 0.0], data.ncon)
+    gap = np.where(gap > 0, gap, 0.2 * gap) / m.opt.timestep
+    assert A.q == pytest.approx(J @ (data.qvel + m.opt.timestep * data.qacc_smooth) + gap, abs=1e-13)

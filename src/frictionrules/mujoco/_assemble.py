@@ -14,9 +14,10 @@ q_{smooth} + M^{-1}J^T r / h)` gives
           + \tfrac1h\,\gamma\,e_N,
 
 ``r`` the contact impulses over the step (``r_N >= 0`` compression). ``W`` is read from
-MuJoCo's ``efc_AR - diag(efc_R)`` (MuJoCo fills ``efc_AR`` for its dual solvers: the step sets
-``opt.solver`` to PGS for the forward stages and restores it), sparse or dense as the model's
-``opt.jacobian`` makes it; no product runs in a Python loop over contacts.
+MuJoCo's ``efc_AR - diag(efc_R)`` (``mj_fwdPosition`` fills ``efc_AR`` for MuJoCo's dual
+solvers: the step sets ``opt.solver`` to PGS for the forward stages and restores it), sparse
+or dense as the model's ``opt.jacobian`` makes it; no product runs in a Python loop over
+contacts.
 
 The gap term :math:`\gamma` (speculative contacts with a Baumgarte correction): a contact at
 the distance ``dist > 0`` may close it within the step (:math:`\gamma = ` ``dist``), a

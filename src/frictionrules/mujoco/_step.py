@@ -4,9 +4,9 @@ The stages of a step (MuJoCo's own functions, the contact solve replaced):
 
 1. ``mj_fwdPosition``, ``mj_fwdVelocity``, ``mj_fwdActuation``, ``mj_fwdAcceleration``:
    collision, the contacts' constraint rows, the smooth acceleration :math:`\ddot q_{smooth}`;
-   ``mj_projectConstraint`` for ``efc_AR`` (during these calls ``opt.solver`` is PGS, so that
-   MuJoCo fills ``efc_AR``, and ``opt.cone`` elliptic, so that each contact has the three rows
-   of its frame; both are restored: a pyramidal model is stepped the same way);
+   during these calls ``opt.solver`` is PGS, for which MuJoCo's ``mj_fwdPosition`` fills
+   ``efc_AR`` (its ``mj_projectConstraint``), and ``opt.cone`` elliptic, so that each contact
+   has the three rows of its frame; both are restored (a pyramidal model steps the same way);
 2. the problem :math:`u = W r + q` of the contacts in the laws' frames (:mod:`._assemble`);
 3. :func:`frictionrules.solve` from the previous step's impulses (warm start);
 4. :math:`\ddot q = \ddot q_{smooth} + M^{-1}J^T r/h` (``mj_solveM``) and MuJoCo's integrator
@@ -156,8 +156,6 @@ def _forward(mujoco, model, data):
         mujoco.mj_fwdVelocity(model, data)
         mujoco.mj_fwdActuation(model, data)
         mujoco.mj_fwdAcceleration(model, data)
-        if data.nefc:
-            mujoco.mj_projectConstraint(model, data)
     finally:
         opt.solver, opt.cone = solver, cone
     for name, i, n in zip(_FULL, full, before):
