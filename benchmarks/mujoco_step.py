@@ -13,7 +13,8 @@ thread, mean over ``--steps`` steps after 20 of warm-up, collision and dynamics 
   rule (1.18)) where the many-contact problem accepts it, else the associated
   ``EllipticOrthotropic(0.5, 0.25)`` (the table says which ran).
 
-Then the rest test: the pile stepped ``--rest-seconds`` of simulated time by each, the largest
+Then where the library's step spends its time (its stages timed one by one), and the rest
+test: the pile stepped ``--rest-seconds`` of simulated time by each, the largest
 displacement of a box and its largest speed at the end. Writes
 ``benchmarks/results/mujoco_step.md``.
 """
@@ -48,7 +49,7 @@ def pile_xml(seed: int = 0, columns: int = 5, h: float = H) -> str:
             yaw = rng.uniform(-10, 10)
             bodies.append(f'<body pos="{x + dx:.17g} {y + dy:.17g} {3 * HALF}" euler="0 0 {yaw:.17g}"><freejoint/>'
                           f'<geom type="box" size="{HALF} {HALF} {HALF}" mass="1" margin="0.002"/></body>')
-    return (f'<mujoco><option timestep="{h}" jacobian="sparse"/><worldbody>'
+    return (f'<mujoco><option timestep="{h}" jacobian="sparse"/><size memory="64M"/><worldbody>'
             f'<geom name="floor" type="plane" size="10 10 .1" margin="0.002"/>'
             + "".join(bodies) + "</worldbody></mujoco>")
 
@@ -72,6 +73,45 @@ def per_step(advance, steps: int) -> float:
     for _ in range(steps):
         advance()
     return (time.thread_time() - t0) / steps
+
+
+def breakdown(model, law, steps: int) -> dict:
+    """CPU ms per step of each stage of the library's step (its private stages, timed one by
+    one after 30 steps of the pile)."""
+    import mujoco
+    import scipy.sparse as sp
+
+    import frictionrules as fr
+    from frictionrules.mujoco import Simulator, _assemble, _step
+    sim = Simulator(model, {}, default=law)
+    sim.step(30)
+    h = model.opt.timestep
+    names = ("MuJoCo forward stages", "assemble J, W, q", "laws", "FrictionContactProblem", "warm start",
+             "solve", "integrate (mj_solveM, mj_Euler)")
+    total = dict.fromkeys(names, 0.0)
+    for _ in range(steps):
+        t = [time.thread_time()]
+        _step._forward(mujoco, model, sim.data)
+        t.append(time.thread_time())
+        A = _assemble.assemble(sp, mujoco, model, sim.data, sim._scene, 0.2)
+        t.append(time.thread_time())
+        laws = sim._scene.laws_of(A.geom1, A.geom2)
+        t.append(time.thread_time())
+        problem = fr.FrictionContactProblem(A.W, A.q, laws[0])
+        t.append(time.thread_time())
+        r0, _ = _step._warm_start(sim.last, A, h, sim._scene.ngeom, 0.01)
+        t.append(time.thread_time())
+        sol = fr.solve(problem, "auto", 1e-10, 1000, r0=r0)
+        t.append(time.thread_time())
+        impulse = A.J.T @ sol.r
+        x = np.array(impulse[None, :])
+        mujoco.mj_solveM(model, sim.data, x, impulse[None, :].copy())
+        sim.data.qacc[:] = sim.data.qacc_smooth + x[0] / h
+        mujoco.mj_Euler(model, sim.data)
+        t.append(time.thread_time())
+        for name, a, b in zip(names, t[:-1], t[1:]):
+            total[name] += b - a
+    return {k: v / steps * 1e3 for k, v in total.items()}
 
 
 def main(argv=None):
@@ -100,6 +140,13 @@ def main(argv=None):
     notes = [f"Per step: CPU time of this thread, mean of {args.steps} steps after 20 of warm-up, "
              f"collision and dynamics included; {model.nbody - 1} boxes, {model.nv} dofs. The machine was shared "
              "with other jobs (under load)."]
+
+    parts = {name: breakdown(model, entry, args.steps) for name, entry in (("Coulomb", MU), (law_name, law))}
+    stages = list(next(iter(parts.values())))
+    notes.append("\nWhere the time of the library's step goes (CPU ms per step, each stage timed alone; "
+                 "each step warm-started from the 30th step's result, the pile at rest):\n\n"
+                 "| stage | " + " | ".join(parts) + " |\n|---|" + "---|" * len(parts) + "\n"
+                 + "\n".join(f"| {s} | " + " | ".join(f"{parts[k][s]:.3f}" for k in parts) + " |" for s in stages))
 
     n = int(round(args.rest_seconds / H))
     rest = []
