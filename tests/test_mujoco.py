@@ -455,3 +455,13 @@ def test_W_from_efc_AR_is_J_Minv_JT_and_q_is_the_free_velocity(jacobian):
     gap = np.repeat(A.gap, 3) * np.tile([1.0, 0.0, 0.0], data.ncon)
     gap = np.where(gap > 0, gap, 0.2 * gap) / m.opt.timestep
     assert A.q == pytest.approx(J @ (data.qvel + m.opt.timestep * data.qacc_smooth) + gap, abs=1e-13)
+
+
+def test_a_step_without_contacts_is_mujocos_free_step():
+    """No contact (the box 1 m up): the step is MuJoCo's own free fall, v = -g h."""
+    m = mujoco.MjModel.from_xml_string(box_on_floor_xml(0.5, 0.005).replace('pos="0 0 0.1"', 'pos="0 0 1"'))
+    data, ref = mujoco.MjData(m), mujoco.MjData(m)
+    res = step(m, data, {"floor": 0.5})
+    mujoco.mj_step(m, ref)
+    assert res.nc == 0 and res.converged and res.solution is None
+    assert data.qvel == pytest.approx(ref.qvel, abs=1e-15) and data.qvel[2] == pytest.approx(-G * 0.005)

@@ -53,14 +53,15 @@ _CONTACT_FRICTIONLESS = 5
 class Assembled:
     """The problem's pieces: ``J``, ``W`` (CSR, or dense arrays as MuJoCo stores them; rows in
     the law frames), ``q``; per
-    contact the world frame rows ``frames`` (nc, 3, 3), ``pos``, ``geom1``, ``geom2``,
-    ``gap`` and the count of axis fallbacks."""
+    contact the world frame rows ``frames`` (nc, 3, 3) of the law and ``mj_frames`` of
+    MuJoCo, ``pos``, ``geom1``, ``geom2``, ``gap``; ``rows`` (3 nc,) the contacts' rows of
+    MuJoCo's ``efc_*`` arrays; the count of axis fallbacks."""
 
-    __slots__ = ("J", "W", "q", "frames", "pos", "geom1", "geom2", "gap", "axis_fallback")
+    __slots__ = ("J", "W", "q", "frames", "mj_frames", "rows", "pos", "geom1", "geom2", "gap", "axis_fallback")
 
-    def __init__(self, J, W, q, frames, pos, geom1, geom2, gap, axis_fallback):
-        self.J, self.W, self.q, self.frames, self.pos = J, W, q, frames, pos
-        self.geom1, self.geom2, self.gap, self.axis_fallback = geom1, geom2, gap, axis_fallback
+    def __init__(self, J, W, q, frames, mj_frames, rows, pos, geom1, geom2, gap, axis_fallback):
+        self.J, self.W, self.q, self.frames, self.mj_frames, self.rows = J, W, q, frames, mj_frames, rows
+        self.pos, self.geom1, self.geom2, self.gap, self.axis_fallback = pos, geom1, geom2, gap, axis_fallback
 
 
 def refuse_other_rows(mujoco, model, data) -> None:
@@ -164,8 +165,8 @@ def assemble(sp, mujoco, model, data, scene, baumgarte: float) -> Assembled:
     active = np.flatnonzero(addr >= 0)
     if active.size == 0:
         z = np.zeros(0)
-        return Assembled(None, None, z, np.zeros((0, 3, 3)), np.zeros((0, 3)), z.astype(int), z.astype(int),
-                         z, 0)
+        return Assembled(None, None, z, np.zeros((0, 3, 3)), np.zeros((0, 3, 3)), z.astype(int),
+                         np.zeros((0, 3)), z.astype(int), z.astype(int), z, 0)
     dim = np.asarray(con.dim[:ncon])[active]
     geom = np.asarray(con.geom[:ncon])[active]
     if (geom < 0).any():
@@ -191,4 +192,4 @@ def assemble(sp, mujoco, model, data, scene, baumgarte: float) -> Assembled:
     gap = np.asarray(con.dist[:ncon])[active]
     q[0::3] += np.where(gap > 0, gap, baumgarte * gap) / h
     pos = np.asarray(con.pos[:ncon])[active]
-    return Assembled(J, W, q, law_frames, pos, geom1, geom2, gap, fallback)
+    return Assembled(J, W, q, law_frames, frames, rows, pos, geom1, geom2, gap, fallback)

@@ -191,14 +191,9 @@ def _advance(mujoco, model, data, scene: Scene, previous, p: _Params) -> StepRes
         mujoco.mj_solveM(model, data, x, impulse[None, :].copy())
         data.qacc[:] = np.asarray(data.qacc_smooth) + x[0] / h
         data.qfrc_constraint[:] = impulse / h
-    force = np.einsum("ki,kij->kj", r, A.frames) / h if nc else np.zeros((0, 3))
+    force = np.einsum("ki,kij->kj", r, A.frames) / h
     if nc:
-        con = data.contact
-        addr = np.asarray(con.efc_address[:int(data.ncon)])
-        addr = addr[addr >= 0]
-        mj_frames = np.asarray(con.frame[:int(data.ncon)])[np.asarray(con.efc_address[:int(data.ncon)]) >= 0]
-        efc = np.einsum("kij,kj->ki", mj_frames.reshape(-1, 3, 3), force)
-        data.efc_force[(addr[:, None] + np.arange(3)).ravel()] = efc.ravel()
+        data.efc_force[A.rows] = np.einsum("kij,kj->ki", A.mj_frames, force).ravel()
     getattr(mujoco, _INTEGRATORS[int(model.opt.integrator)])(model, data)
     return StepResult(time=float(data.time), r=r, frames=A.frames, force=force, pos=A.pos, geom1=A.geom1,
                       geom2=A.geom2, gap=A.gap, solution=sol, warm_started=warm, axis_fallback=A.axis_fallback)
