@@ -13,7 +13,8 @@ q_{smooth} + M^{-1}J^T r / h)` gives
     u^+ = W r + q, \qquad W = J M^{-1} J^T, \qquad q = J(\dot q + h\,\ddot q_{smooth})
           + \tfrac1h\,\gamma\,e_N,
 
-``r`` the contact impulses over the step (``r_N >= 0`` compression). ``W`` is read from
+``r`` the contact impulses over the step (``r_N >= 0`` compression). ``q`` is MuJoCo's
+product ``mj_mulJacVec`` (and the impulses go back through ``mj_mulJacTVec``), ``W`` is read from
 MuJoCo's ``efc_AR - diag(efc_R)`` (``mj_fwdPosition`` fills ``efc_AR`` for MuJoCo's dual
 solvers: the step sets ``opt.solver`` to PGS for the forward stages and restores it), sparse
 or dense as the model's ``opt.jacobian`` makes it; no product runs in a Python loop over
@@ -51,16 +52,16 @@ _CONTACT_FRICTIONLESS = 5
 
 
 class Assembled:
-    """The problem's pieces: ``J``, ``W`` (CSR, or dense arrays as MuJoCo stores them; rows in
-    the law frames), ``q``; per
+    """The problem's pieces: ``W`` (CSR, or a dense array as MuJoCo stores it; rows in the law
+    frames), ``q``; per
     contact the world frame rows ``frames`` (nc, 3, 3) of the law and ``mj_frames`` of
     MuJoCo, ``pos``, ``geom1``, ``geom2``, ``gap``; ``rows`` (3 nc,) the contacts' rows of
     MuJoCo's ``efc_*`` arrays; the count of axis fallbacks."""
 
-    __slots__ = ("J", "W", "q", "frames", "mj_frames", "rows", "pos", "geom1", "geom2", "gap", "axis_fallback")
+    __slots__ = ("W", "q", "frames", "mj_frames", "rows", "pos", "geom1", "geom2", "gap", "axis_fallback")
 
-    def __init__(self, J, W, q, frames, mj_frames, rows, pos, geom1, geom2, gap, axis_fallback):
-        self.J, self.W, self.q, self.frames, self.mj_frames, self.rows = J, W, q, frames, mj_frames, rows
+    def __init__(self, W, q, frames, mj_frames, rows, pos, geom1, geom2, gap, axis_fallback):
+        self.W, self.q, self.frames, self.mj_frames, self.rows = W, q, frames, mj_frames, rows
         self.pos, self.geom1, self.geom2, self.gap, self.axis_fallback = pos, geom1, geom2, gap, axis_fallback
 
 
@@ -98,40 +99,36 @@ def _csr(sp, values, colind, rowadr, rownnz, shape):
     return sp.csr_matrix((np.array(values[:nnz]), np.array(colind[:nnz]), indptr), shape=shape)
 
 
-def _matrices(sp, mujoco, model, data):
-    """``J`` (nefc, nv) and ``W = efc_AR - diag(efc_R)`` (nefc, nefc): CSR for a sparse model
-    (``opt.jacobian``), dense arrays otherwise (MuJoCo's own choice of layout)."""
-    nefc, nv = int(data.nefc), int(model.nv)
+def _delassus(sp, mujoco, model, data):
+    """``W = efc_AR - diag(efc_R)`` (nefc, nefc): CSR for a sparse model (``opt.jacobian``), a
+    dense array otherwise (MuJoCo's own layout)."""
+    nefc = int(data.nefc)
     R = np.asarray(data.efc_R[:nefc])
     if mujoco.mj_isSparse(model):
-        J = _csr(sp, data.efc_J, data.efc_J_colind, data.efc_J_rowadr, data.efc_J_rownnz, (nefc, nv))
         W = _csr(sp, data.efc_AR, data.efc_AR_colind, data.efc_AR_rowadr, data.efc_AR_rownnz, (nefc, nefc))
         rows = np.repeat(np.arange(nefc), np.diff(W.indptr))
         diag = W.indices == rows
         W.data[diag] -= R[rows[diag]]
-        return J, W
-    J = np.array(data.efc_J[:nefc * nv]).reshape(nefc, nv)
+        return W
     W = np.array(data.efc_AR[:nefc * nefc]).reshape(nefc, nefc)
     W[np.diag_indices(nefc)] -= R
-    return J, W
+    return W
 
 
-def _rotate(sp, J, W, C):
-    """``J' = Q J``, ``W' = Q W Q^T`` with ``Q`` block-diagonal, per contact ``[[1, 0], [0,
-    C_a]]`` (``C_a`` turns MuJoCo's tangents to the law's)."""
+def _rotate(sp, W, C):
+    """``W' = Q W Q^T`` with ``Q`` block-diagonal, per contact ``[[1, 0], [0, C_a]]`` (``C_a``
+    turns MuJoCo's tangents to the law's)."""
     nc = C.shape[0]
-    if not sp.issparse(J):
-        J3 = J.reshape(nc, 3, -1).copy()
-        J3[:, 1:] = np.einsum("kij,kjv->kiv", C, J3[:, 1:])
+    if not sp.issparse(W):
         W4 = W.reshape(nc, 3, nc, 3).copy()
         W4[:, 1:] = np.einsum("kij,kjlm->kilm", C, W4[:, 1:])
         W4[:, :, :, 1:] = np.einsum("lij,kmlj->kmli", C, W4[:, :, :, 1:])
-        return J3.reshape(3 * nc, -1), W4.reshape(3 * nc, 3 * nc)
+        return W4.reshape(3 * nc, 3 * nc)
     blocks = np.zeros((nc, 3, 3))
     blocks[:, 0, 0] = 1.0
     blocks[:, 1:, 1:] = C
     Q = sp.bsr_matrix((blocks, np.arange(nc), np.arange(nc + 1)), shape=(3 * nc, 3 * nc)).tocsr()
-    return (Q @ J).tocsr(), (Q @ W @ Q.T).tocsr()
+    return (Q @ W @ Q.T).tocsr()
 
 
 def _law_frames(frames, owner, geom_xmat, axes):
@@ -165,7 +162,7 @@ def assemble(sp, mujoco, model, data, scene, baumgarte: float) -> Assembled:
     active = np.flatnonzero(addr >= 0)
     if active.size == 0:
         z = np.zeros(0)
-        return Assembled(None, None, z, np.zeros((0, 3, 3)), np.zeros((0, 3, 3)), z.astype(int),
+        return Assembled(None, z, np.zeros((0, 3, 3)), np.zeros((0, 3, 3)), z.astype(int),
                          np.zeros((0, 3)), z.astype(int), z.astype(int), z, 0)
     dim = np.asarray(con.dim[:ncon])[active]
     geom = np.asarray(con.geom[:ncon])[active]
@@ -177,19 +174,24 @@ def assemble(sp, mujoco, model, data, scene, baumgarte: float) -> Assembled:
                                  f"has condim={int(dim[j])}; frictionrules.mujoco takes condim=3 only")
     geom1, geom2 = geom[:, 0].copy(), geom[:, 1].copy()
     rows = (addr[active][:, None] + np.arange(3)).ravel()
-    J, W = _matrices(sp, mujoco, model, data)
-    if rows.size != J.shape[0] or not np.array_equal(rows, np.arange(rows.size)):
-        J, W = J[rows], W[rows][:, rows]
+    W = _delassus(sp, mujoco, model, data)
+    whole = rows.size == W.shape[0] and np.array_equal(rows, np.arange(rows.size))
+    if not whole:
+        W = W[rows][:, rows]
     frames = np.asarray(con.frame[:ncon])[active].reshape(-1, 3, 3)
     owner = scene.axis_owner(geom1, geom2)
     law_frames, fallback = _law_frames(frames, owner, np.asarray(data.geom_xmat), scene.axes)
     h = float(model.opt.timestep)
-    v = np.asarray(data.qvel) + h * np.asarray(data.qacc_smooth)
+    Jv = np.zeros(int(data.nefc))
+    mujoco.mj_mulJacVec(model, data, Jv, np.asarray(data.qvel) + h * np.asarray(data.qacc_smooth))
+    q = Jv if whole else Jv[rows]
     if law_frames is not frames:
         # C[a, i, j] = t'_i . t_j: MuJoCo's tangents to the law's, within the contact plane
-        J, W = _rotate(sp, J, W, np.einsum("kid,kjd->kij", law_frames[:, 1:], frames[:, 1:]))
-    q = J @ v
+        C = np.einsum("kid,kjd->kij", law_frames[:, 1:], frames[:, 1:])
+        W = _rotate(sp, W, C)
+        q3 = q.reshape(-1, 3)
+        q3[:, 1:] = np.einsum("kij,kj->ki", C, q3[:, 1:])
     gap = np.asarray(con.dist[:ncon])[active]
     q[0::3] += np.where(gap > 0, gap, baumgarte * gap) / h
     pos = np.asarray(con.pos[:ncon])[active]
-    return Assembled(J, W, q, law_frames, frames, rows, pos, geom1, geom2, gap, fallback)
+    return Assembled(W, q, law_frames, frames, rows, pos, geom1, geom2, gap, fallback)

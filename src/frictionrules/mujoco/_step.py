@@ -186,14 +186,18 @@ def _advance(mujoco, model, data, scene: Scene, previous, p: _Params) -> StepRes
         r0, warm = _warm_start(previous, A, h, scene.ngeom, p.warm_distance)
         sol = solve(problem, p.method, p.tol, p.max_iter, r0=r0)
         r = sol.r.reshape(nc, 3)
-        impulse = A.J.T @ sol.r
-        x = np.array(impulse[None, :])
-        mujoco.mj_solveM(model, data, x, impulse[None, :].copy())
-        data.qacc[:] = np.asarray(data.qacc_smooth) + x[0] / h
-        data.qfrc_constraint[:] = impulse / h
     force = np.einsum("ki,kij->kj", r, A.frames) / h
     if nc:
-        data.efc_force[A.rows] = np.einsum("kij,kj->ki", A.mj_frames, force).ravel()
+        # the impulses in MuJoCo's frames are its efc_force times h; J^T of them by MuJoCo
+        efc = np.zeros(int(data.nefc))
+        efc[A.rows] = np.einsum("kij,kj->ki", A.mj_frames, force).ravel()
+        data.efc_force[:] = efc
+        impulse = np.zeros(int(model.nv))
+        mujoco.mj_mulJacTVec(model, data, impulse, efc)
+        x = impulse[None, :].copy()
+        mujoco.mj_solveM(model, data, x, impulse[None, :])
+        data.qacc[:] = np.asarray(data.qacc_smooth) + x[0]
+        data.qfrc_constraint[:] = impulse
     getattr(mujoco, _INTEGRATORS[int(model.opt.integrator)])(model, data)
     return StepResult(time=float(data.time), r=r, frames=A.frames, force=force, pos=A.pos, geom1=A.geom1,
                       geom2=A.geom2, gap=A.gap, solution=sol, warm_started=warm, axis_fallback=A.axis_fallback)
