@@ -7,8 +7,8 @@ from ..errors import FrictionRulesError
 
 __all__ = ["LAW_METHODS", "check_law", "short"]
 
-#: The methods that take a problem on the law path (``"auto"`` runs ``"nsgs"``).
-LAW_METHODS = ("auto", "nsgs")
+#: The methods that take a problem on the law path (``"auto"`` runs ``"nsgs"`` and ``"polish"``).
+LAW_METHODS = ("auto", "nsgs", "polish")
 
 
 def check_law(law, index: int) -> None:

@@ -27,18 +27,38 @@ from ..contact.layout import LAW_KN, LAW_KT, RES_FORCE, RES_SIZE
 njit = require("numba", extra="kernels").njit
 
 _EPS = np.finfo(float).eps
+#: Halvings of a local Newton step before the fixed-point step is taken instead.
+MAX_HALVINGS = 8
+#: Divisions by 4 of a dilatant contact's trial weight ω (down to 4^-6).
+MAX_SHRINK = 6
 
 
 @njit(cache=True)
-def project_law(fn, row, x0, x1, x2, s, du, s1, res, ws, tan):
-    """:math:`P_K(x)` of one contact, ``x = (x_N, x_T1, x_T2)``: returns ``(r_N, r_T1, r_T2,
-    kind, failed)`` (``kind`` 0 inside: ``P_K(x) = x``, 1 returned, 2 zero). ``s`` is a zero state row (never written); ``du, s1, res, tan`` scratch."""
+def project_law(fn, row, x0, x1, x2, s, du, s1, res, ws, tan, want=False):
+    r""":math:`P_K(x)` of one contact, ``x = (x_N, x_T1, x_T2)``: returns ``(r_N, r_T1, r_T2,
+    kind, failed)`` (``kind`` 0 inside: ``P_K(x) = x``, 1 returned, 2 zero). With ``want``
+    the consistent tangent of the return, ``d(T1, T2, N)/d(du)``, is written to ``tan``
+    (:func:`tangent_of` turns it into :math:`\partial P_K/\partial x`)."""
     kt, kn = row[LAW_KT], row[LAW_KN]
     du[0] = -x1 / kt
     du[1] = -x2 / kt
     du[2] = -x0 / kn
-    kind, failed = contact_update(fn, row, s, du, s1, res, ws, 0, False, tan)
+    kind, failed = contact_update(fn, row, s, du, s1, res, ws, 0, want, tan)
     return res[RES_FORCE + 2], -res[RES_FORCE], -res[RES_FORCE + 1], kind, failed
+
+
+@njit(cache=True)
+def tangent_of(row, tan, out):
+    r""":math:`\partial P_K/\partial x` in FCLIB's ordering from the return's tangent ``tan``
+    (``r = (N, -T1, -T2)``, ``du = (-x_T1/kt, -x_T2/kt, -x_N/kn)``)."""
+    kt, kn = row[LAW_KT], row[LAW_KN]
+    force = (2, 0, 1)
+    sign = (1.0, -1.0, -1.0)
+    disp = (2, 0, 1)
+    factor = (-1.0 / kn, -1.0 / kt, -1.0 / kt)
+    for i in range(3):
+        for k in range(3):
+            out[i, k] = sign[i] * tan[force[i], disp[k]] * factor[k]
 
 
 @njit(cache=True)
@@ -46,6 +66,18 @@ def scratch(nq):
     """Zero state row and scratch arrays of :func:`project_law`."""
     return (np.zeros(6 + nq), np.empty(3), np.empty(6 + nq), np.empty(RES_SIZE),
             np.empty((3, 3)))
+
+
+@njit(cache=True)
+def trial_weight(rn, un):
+    r"""The weight :math:`\rho` of the natural map's trial :math:`r - \rho u`: 1, or
+    :math:`r_N/(2u_N)` where :math:`0 < r_N < 2u_N`, so that the trial of a compressed contact
+    that opens (a dilatant law sliding) stays compressed, where the return is the law's
+    projection (a tensile trial opens the contact). Any :math:`\rho > 0` has the same fixed
+    points among the solutions; with this one every solution is one."""
+    if rn > 0.0 and un > 0.5 * rn:
+        return 0.5 * rn / un
+    return 1.0
 
 
 @njit(cache=True)
@@ -62,14 +94,17 @@ def csr_matvec(indptr, indices, data, x, q):
 
 @njit(cache=True)
 def natural_residual(fn, rows, r, u, ws, out):
-    r"""Per contact :math:`r_a - P_{I}(r_a - u_a)` into ``out`` (the rows' stiffnesses must
-    be 1: the identity metric); returns the number of failed projections."""
+    r"""Per contact :math:`r_a - P_{I}(r_a - \rho_a u_a)` into ``out``
+    (:func:`trial_weight`; the rows' stiffnesses must be 1: the identity metric); returns the
+    number of failed projections."""
     s, du, s1, res, tan = scratch(0)
     bad = 0
     for a in range(rows.shape[0]):
         i = 3 * a
-        p0, p1, p2, _kind, failed = project_law(fn[a], rows[a], r[i] - u[i], r[i + 1] - u[i + 1],
-                                         r[i + 2] - u[i + 2], s, du, s1, res, ws, tan)
+        rho = trial_weight(r[i], u[i])
+        p0, p1, p2, _kind, failed = project_law(fn[a], rows[a], r[i] - rho * u[i],
+                                                r[i + 1] - rho * u[i + 1], r[i + 2] - rho * u[i + 2],
+                                                s, du, s1, res, ws, tan)
         out[i], out[i + 1], out[i + 2] = r[i] - p0, r[i + 1] - p1, r[i + 2] - p2
         bad += failed
     return bad
@@ -77,7 +112,8 @@ def natural_residual(fn, rows, r, u, ws, out):
 
 @njit(cache=True)
 def law_error(indptr, indices, data, q, fn, rows, r, norm_q, ws):
-    r"""The normalized natural map :math:`|r - P_I(r - u)|/\max(|q|, |r|, |u|)` and ``u``."""
+    r"""The normalized natural map :math:`|r - P_I(r - \rho u)|/\max(|q|, |r|, |u|)` and
+    ``u``."""
     u = csr_matvec(indptr, indices, data, r, q)
     res = np.empty(r.size)
     natural_residual(fn, rows, r, u, ws, res)
@@ -89,10 +125,13 @@ def law_error(indptr, indices, data, q, fn, rows, r, norm_q, ws):
 
 
 @njit(cache=True)
-def _local(A, b, fn, row, r0, r1, r2, local_iter, local_tol, s, du, s1, res, ws, tan):
+def _local(A, b, fn, row, dilatant, r0, r1, r2, local_iter, local_tol, s, du, s1, res, ws, tan):
     r"""One contact's problem :math:`A r + b \in N_g(r)` with the others frozen: separation
-    (``b_N >= 0``), stick (:math:`r = -A^{-1}b` inside the limit surface), otherwise the
-    fixed point :math:`r = P_K(r - K(Ar + b))` from the contact's last reactions."""
+    (``b_N >= 0``), stick (:math:`r = -A^{-1}b` inside the limit surface), otherwise
+    :func:`_newton` on the fixed point :math:`r = P_K(r - \omega K(Ar + b))` from the
+    contact's last reactions. For a law with normal slip a solution whose trial is tensile
+    (:math:`\omega k_n u_N \ge r_N`) is no fixed point: ω is divided by 4 (at most
+    ``MAX_SHRINK`` times) until Newton's iteration converges."""
     if b[0] >= 0.0:
         return 0.0, 0.0, 0.0
     # stick: solve A r = -b (3 x 3, Cramer), accepted where the projection keeps it
@@ -117,24 +156,93 @@ def _local(A, b, fn, row, r0, r1, r2, local_iter, local_tol, s, du, s1, res, ws,
                                                       tan)
             if not failed and kind == 0:
                 return s0, s1_, s2
-    kt, kn = row[LAW_KT], row[LAW_KN]
-    for _ in range(local_iter):
-        u0 = A[0, 0] * r0 + A[0, 1] * r1 + A[0, 2] * r2 + b[0]
-        u1 = A[1, 0] * r0 + A[1, 1] * r1 + A[1, 2] * r2 + b[1]
-        u2 = A[2, 0] * r0 + A[2, 1] * r1 + A[2, 2] * r2 + b[2]
-        p0, p1, p2, _kind, failed = project_law(fn, row, r0 - kn * u0, r1 - kt * u1, r2 - kt * u2,
-                                         s, du, s1, res, ws, tan)
-        ch = (p0 - r0) ** 2 + (p1 - r1) ** 2 + (p2 - r2) ** 2
-        nr = p0 * p0 + p1 * p1 + p2 * p2
-        r0, r1, r2 = p0, p1, p2
-        if ch <= local_tol * local_tol * nr:
+    om = 1.0
+    t0, t1, t2 = r0, r1, r2
+    for _ in range(MAX_SHRINK + 1 if dilatant else 1):
+        t0, t1, t2, ok = _newton(A, b, fn, row, om, r0, r1, r2, local_iter, local_tol, s, du,
+                                 s1, res, ws, tan)
+        if ok:
             break
-    return r0, r1, r2
+        om *= 0.25
+    return t0, t1, t2
 
 
 @njit(cache=True)
-def law_nsgs(indptr, indices, data, D, q, fn, rows_k, rows_1, r, tol, max_iter, hist_err,
-             hist_it, norm_q, max_interval, local_iter, local_tol, ws):
+def _residual(A, b, fn, row, om, r0, r1, r2, s, du, s1, res, ws, tan, want):
+    r""":math:`R(r) = r - P_K(r - \omega K(Ar + b))` and, with ``want``, the return's tangent
+    in ``tan``."""
+    kt, kn = om * row[LAW_KT], om * row[LAW_KN]
+    u0 = A[0, 0] * r0 + A[0, 1] * r1 + A[0, 2] * r2 + b[0]
+    u1 = A[1, 0] * r0 + A[1, 1] * r1 + A[1, 2] * r2 + b[1]
+    u2 = A[2, 0] * r0 + A[2, 1] * r1 + A[2, 2] * r2 + b[2]
+    p0, p1, p2, _kind, failed = project_law(fn, row, r0 - kn * u0, r1 - kt * u1, r2 - kt * u2,
+                                            s, du, s1, res, ws, tan, want)
+    return r0 - p0, r1 - p1, r2 - p2, failed
+
+
+@njit(cache=True)
+def _newton(A, b, fn, row, om, r0, r1, r2, local_iter, local_tol, s, du, s1, res, ws, tan):
+    r"""Semismooth Newton on :math:`R(r) = r - P_K(r - K(Ar + b))`, the generalized Jacobian
+    :math:`I - \partial P_K (I - KA)` from the return's consistent tangent, a step halved
+    while it does not lower :math:`|R|`; where no step lowers it, the fixed point
+    :math:`r \leftarrow r - R(r)` is taken instead. Returns ``(r, converged)``."""
+    kt, kn = om * row[LAW_KT], om * row[LAW_KN]
+    DP = np.empty((3, 3))
+    J = np.empty((3, 3))
+    kd = np.array((kn, kt, kt))
+    R0, R1, R2, failed = _residual(A, b, fn, row, om, r0, r1, r2, s, du, s1, res, ws, tan, True)
+    nR = np.sqrt(R0 * R0 + R1 * R1 + R2 * R2)
+    for _ in range(local_iter):
+        nr = np.sqrt(r0 * r0 + r1 * r1 + r2 * r2)
+        if nR <= local_tol * nr or nR == 0.0:
+            return r0, r1, r2, True
+        tangent_of(row, tan, DP)
+        for i in range(3):          # J = I - DP (I - K A)
+            for k in range(3):
+                acc = 0.0
+                for m in range(3):
+                    acc += DP[i, m] * ((1.0 if m == k else 0.0) - kd[m] * A[m, k])
+                J[i, k] = (1.0 if i == k else 0.0) - acc
+        det = (J[0, 0] * (J[1, 1] * J[2, 2] - J[1, 2] * J[2, 1])
+               - J[0, 1] * (J[1, 0] * J[2, 2] - J[1, 2] * J[2, 0])
+               + J[0, 2] * (J[1, 0] * J[2, 1] - J[1, 1] * J[2, 0]))
+        ok = det != 0.0 and np.isfinite(det) and not failed
+        if ok:
+            c0, c1, c2 = -R0, -R1, -R2
+            d0 = (c0 * (J[1, 1] * J[2, 2] - J[1, 2] * J[2, 1])
+                  - J[0, 1] * (c1 * J[2, 2] - J[1, 2] * c2)
+                  + J[0, 2] * (c1 * J[2, 1] - J[1, 1] * c2)) / det
+            d1 = (J[0, 0] * (c1 * J[2, 2] - J[1, 2] * c2)
+                  - c0 * (J[1, 0] * J[2, 2] - J[1, 2] * J[2, 0])
+                  + J[0, 2] * (J[1, 0] * c2 - c1 * J[2, 0])) / det
+            d2 = (J[0, 0] * (J[1, 1] * c2 - c1 * J[2, 1])
+                  - J[0, 1] * (J[1, 0] * c2 - c1 * J[2, 0])
+                  + c0 * (J[1, 0] * J[2, 1] - J[1, 1] * J[2, 0])) / det
+            ok = np.isfinite(d0) and np.isfinite(d1) and np.isfinite(d2)
+        step = 1.0
+        accepted = False
+        if ok:
+            for _h in range(MAX_HALVINGS):
+                t0, t1, t2 = r0 + step * d0, r1 + step * d1, r2 + step * d2
+                S0, S1, S2, bad = _residual(A, b, fn, row, om, t0, t1, t2, s, du, s1, res, ws, tan,
+                                            True)
+                nS = np.sqrt(S0 * S0 + S1 * S1 + S2 * S2)
+                if not bad and nS < nR:
+                    accepted = True
+                    break
+                step *= 0.5
+        if not accepted:            # the fixed point: r <- P_K(r - K u)
+            t0, t1, t2 = r0 - R0, r1 - R1, r2 - R2
+            S0, S1, S2, bad = _residual(A, b, fn, row, om, t0, t1, t2, s, du, s1, res, ws, tan, True)
+            nS = np.sqrt(S0 * S0 + S1 * S1 + S2 * S2)
+        r0, r1, r2 = t0, t1, t2
+        R0, R1, R2, nR, failed = S0, S1, S2, nS, bad
+    return r0, r1, r2, nR <= local_tol * np.sqrt(r0 * r0 + r1 * r1 + r2 * r2) or nR == 0.0
+
+
+@njit(cache=True)
+def law_nsgs(indptr, indices, data, D, q, fn, rows_k, rows_1, dilatant, r, tol, max_iter,
+             hist_err, hist_it, norm_q, max_interval, local_iter, local_tol, ws):
     """Non-smooth Gauss–Seidel sweeps with :func:`_local` per contact; the error
     (:func:`law_error`) after the sweeps where the relative change of ``r`` is below ``tol``,
     at intervals predicted from the linear rate (at most ``max_interval`` sweeps apart) and
@@ -156,7 +264,7 @@ def law_nsgs(indptr, indices, data, D, q, fn, rows_k, rows_1, r, tol, max_iter, 
                 for k in range(indptr[i + l], indptr[i + l + 1]):
                     acc += data[k] * r[indices[k]]
                 b[l] = acc - (D[a, l, 0] * r[i] + D[a, l, 1] * r[i + 1] + D[a, l, 2] * r[i + 2])
-            r0, r1, r2 = _local(D[a], b, fn[a], rows_k[a], r[i], r[i + 1], r[i + 2],
+            r0, r1, r2 = _local(D[a], b, fn[a], rows_k[a], dilatant[a], r[i], r[i + 1], r[i + 2],
                                 local_iter, local_tol, s, du, s1, res, ws, tan)
             dr2 += (r0 - r[i]) ** 2 + (r1 - r[i + 1]) ** 2 + (r2 - r[i + 2]) ** 2
             rr += r0 * r0 + r1 * r1 + r2 * r2
@@ -177,3 +285,27 @@ def law_nsgs(indptr, indices, data, D, q, fn, rows_k, rows_1, r, tol, max_iter, 
             step = int(min(float(max_interval), max(1.0, 0.5 * predicted)))
         next_check = it + step
     return it, err, nh
+
+
+@njit(cache=True)
+def law_linearization(fn, rows_k, r, u, ws, R, DP, om):
+    r"""The law path's global natural map with the rows' metric and its generalized Jacobian
+    pieces: per contact :math:`R_a = r_a - P_K(r_a - \omega_a K u_a)` into ``R``,
+    :math:`\partial P_K` at the trial into ``DP[a]`` and :math:`\omega_a` into ``om`` (1, or
+    what keeps a compressed contact's trial compressed, as :func:`trial_weight`). Returns the
+    number of failed returns."""
+    s, du, s1, res, tan = scratch(0)
+    bad = 0
+    for a in range(rows_k.shape[0]):
+        i = 3 * a
+        kt, kn = rows_k[a, LAW_KT], rows_k[a, LAW_KN]
+        w = trial_weight(r[i], kn * u[i])
+        om[a] = w
+        p0, p1, p2, _kind, failed = project_law(fn[a], rows_k[a], r[i] - w * kn * u[i],
+                                                r[i + 1] - w * kt * u[i + 1],
+                                                r[i + 2] - w * kt * u[i + 2], s, du, s1, res, ws,
+                                                tan, True)
+        R[i], R[i + 1], R[i + 2] = r[i] - p0, r[i + 1] - p1, r[i + 2] - p2
+        tangent_of(rows_k[a], tan, DP[a])
+        bad += failed
+    return bad

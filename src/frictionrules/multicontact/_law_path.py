@@ -25,12 +25,18 @@ The solver is non-smooth Gauss–Seidel with the contact's diagonal block of W a
 the local fixed point (``K = diag(1/W_NN, 2/(W_T1T1 + W_T2T2), same)``). Its error measure is
 the law's natural map with the identity metric, normalised as FCLIB's,
 
-.. math:: e(r) = |r - P_I(r - u)| / \max(|q|, |r|, |u|),
+.. math:: e(r) = |r - P_I(r - \rho u)| / \max(|q|, |r|, |u|),
 
-zero exactly at a solution. The separation rule is the contact layer's (a contact whose
-trial force is tensile opens): for a dilatant law it admits :math:`r = 0` with any
-:math:`u_N \ge 0`, where the cone path's De Saxcé condition asks
-:math:`u_N \ge \bar\mu d|\tilde u_T|`.
+zero exactly at a solution (:func:`law_error`: ρ = 1 but where a dilatant contact opens faster
+than :math:`r_N/2`). For a dilatant law the local fixed point is retried with the trial
+:math:`r - \omega K u`, ω divided by 4, where it does not converge (a tensile trial opens the
+contact in the return map, so a solution with :math:`k_n u_N \ge r_N` is no fixed point).
+``method="polish"`` is semismooth Newton on the global map (:mod:`._law_polish`); ``"auto"``
+alternates sweeps and Newton steps.
+
+The separation rule is the contact layer's (a contact whose trial force is tensile opens): for
+a dilatant law it admits :math:`r = 0` with any :math:`u_N \ge 0`, where the cone path's De
+Saxcé condition asks :math:`u_N \ge \bar\mu d|\tilde u_T|`.
 """
 
 from __future__ import annotations
@@ -47,20 +53,25 @@ from .problem import Solution
 
 __all__ = ["LAW_METHODS", "check_law", "law_error", "contact_dissipation", "solve_law"]
 
-#: Fixed-point iterations of a contact's local problem per sweep, and their relative tolerance
-#: on the change of the contact's reactions (a few ulps: the local problem solved to round-off
-#: where the iteration contracts; the sweeps continue it where it does not).
-LOCAL_ITER, LOCAL_TOL = 50, 1e-15
+#: Newton iterations of a contact's local problem per sweep, and their tolerance on the local
+#: natural map relative to the contact's reactions (a few tens of ulps: round-off; where a
+#: contact does not get there, the sweeps continue it).
+LOCAL_ITER, LOCAL_TOL = 30, 1e-14
+#: ``"auto"`` on the law path: the first stage's sweeps (doubled at each round) and the Newton
+#: steps of each polish between them.
+AUTO_SWEEPS, AUTO_POLISH_STEPS = 100, 20
 
 
 @dataclass(frozen=True, eq=False)
 class LawSet:
     """The contacts' laws as the kernels take them: ``fn`` (nc, 4) addresses of each law's
     generated functions, ``rows`` (nc, L) its row with unit stiffnesses (padded with zeros),
-    ``kernels`` keeping the generated modules alive."""
+    ``dilatant`` (nc,) the laws with normal slip (the trait ``normal_slip``), ``kernels``
+    keeping the generated modules alive."""
 
     fn: np.ndarray
     rows: np.ndarray
+    dilatant: np.ndarray
     kernels: tuple
 
 
@@ -91,7 +102,8 @@ def law_set(problem) -> LawSet:
         c = compiled[key]
         fn[a] = c.fn
         rows[a, :c.row.size] = c.row
-    out = LawSet(fn, rows, tuple(c.kernel for c in compiled.values()))
+    dilatant = np.array([key.traits.normal_slip for key in index], dtype=np.bool_)
+    out = LawSet(fn, rows, dilatant, tuple(c.kernel for c in compiled.values()))
     problem.__dict__["_law_set"] = out
     return out
 
@@ -115,14 +127,17 @@ def _vectors(problem, r, u):
 def law_error(problem, r, u=None) -> float:
     r"""The natural-map error of ``r`` for the laws of ``problem``, zero exactly at a solution.
 
-    .. math:: e(r) = \frac{\sqrt{\sum_a |r_a - P_a(r_a - u_a)|^2}}{\max(|q|, |r|, |u|)}
+    .. math:: e(r) = \frac{\sqrt{\sum_a |r_a - P_a(r_a - \rho_a u_a)|^2}}{\max(|q|, |r|, |u|)}
 
     with :math:`P_a` the return map of contact a's law along its potential (identity metric:
     :math:`P(x) = x - \Delta\lambda\nabla G(P(x))` on the limit surface, ``x`` inside, 0 for
-    a tensile ``x_N <= 0``), in FCLIB's variables; the division is skipped when the scale is
-    at most the machine epsilon. FCLIB's measure (:func:`fc3d_error`) projects on the cone
-    with De Saxcé's modified velocity instead; the two vanish together for isotropic Coulomb
-    without normal slip.
+    a tensile ``x_N <= 0``), in FCLIB's variables, and :math:`\rho_a = 1` except at a
+    compressed contact opening faster than :math:`r_N/2` (a dilatant law sliding), where
+    :math:`\rho_a = r_N/(2u_N)` keeps the trial compressed: the contact layer's return opens a
+    contact whose trial is tensile, so with :math:`\rho = 1` such a solution would not be a
+    zero. The division is skipped when the scale is at most the machine epsilon. FCLIB's
+    measure (:func:`fc3d_error`) projects on the cone with De Saxcé's modified velocity
+    instead; the two vanish together for isotropic Coulomb without normal slip.
 
     Parameters
     ----------
@@ -194,12 +209,15 @@ def metric_rows(problem, ls: LawSet, D) -> np.ndarray:
 
 def solve_law(problem, method, tol, max_iter, r0, opts, callback, time_limit, t0, c0) -> Solution:
     """:func:`~frictionrules.solve` on the law path (arguments checked by the caller; ``opts``
-    the NSGS options, None for the defaults)."""
+    the method's options record or None). ``"nsgs"``: sweeps; ``"polish"``: Newton steps
+    (:mod:`._law_polish`) from ``r0``; ``"auto"``: :data:`AUTO_SWEEPS` sweeps, then the
+    polish, then twice as many sweeps, and so on."""
     from ..contact import workspace
     from ._kernels import diagonal_blocks
+    from ._law_polish import polish
     from ._options import NSGSOptions
     check_method(problem, method)
-    opts = opts if opts is not None else NSGSOptions()
+    nsgs_opts = opts if isinstance(opts, NSGSOptions) else NSGSOptions()
     ls = law_set(problem)
     K = _kernels()
     W = problem.W
@@ -215,21 +233,57 @@ def solve_law(problem, method, tol, max_iter, r0, opts, callback, time_limit, t0
         from ._frame import initial_reactions
         r = initial_reactions(r0, n)
     ws = workspace(0)
-    done, chunk = 0, 1
-    while done < max_iter:
-        m = min(chunk, max_iter - done)
-        hist_err, hist_it = np.full(m, np.nan), np.zeros(m, dtype=np.int64)
-        t = time.perf_counter()
-        it, err, nh = K.law_nsgs(*csr, D, problem.q, ls.fn, rows_k, ls.rows, r, tol, m, hist_err,
-                                 hist_it, fr.norm_q, opts.max_check_interval, LOCAL_ITER, LOCAL_TOL, ws)
-        per_sweep = (time.perf_counter() - t) / max(it, 1)
-        for k in range(nh - 1):
-            mon.errors.append(float(hist_err[k]))
-            mon.iterations.append(done + int(hist_it[k]))
-        done += it
-        if mon.record("nsgs", done, r, err):
-            break
-        chunk = int(max(1, min(10 * chunk + 10, opts.chunk_seconds / max(per_sweep, 1e-9))))
+    done, ran = 0, []
+
+    def sweeps(budget):
+        """NSGS sweeps on ``r`` (in place); True when the monitor stops the run."""
+        nonlocal done
+        chunk, end = 1, done + budget
+        while done < end:
+            m = min(chunk, end - done)
+            hist_err, hist_it = np.full(m, np.nan), np.zeros(m, dtype=np.int64)
+            t = time.perf_counter()
+            it, err, nh = K.law_nsgs(*csr, D, problem.q, ls.fn, rows_k, ls.rows, ls.dilatant, r, tol, m,
+                                     hist_err, hist_it, fr.norm_q, nsgs_opts.max_check_interval,
+                                     LOCAL_ITER, LOCAL_TOL, ws)
+            per_sweep = (time.perf_counter() - t) / max(it, 1)
+            for k in range(nh - 1):
+                mon.errors.append(float(hist_err[k]))
+                mon.iterations.append(done + int(hist_it[k]))
+            done += it
+            if mon.record("nsgs", done, r, err):
+                return True
+            chunk = int(max(1, min(10 * chunk + 10, nsgs_opts.chunk_seconds / max(per_sweep, 1e-9))))
+        return False
+
+    def newton(steps):
+        nonlocal done, r
+
+        def record(rr, err):
+            nonlocal done
+            done += 1
+            return mon.record("polish", done, rr, err)
+
+        r, _err, _k, stop = polish(problem, ls, rows_k, r, tol, steps, lambda x: law_error(problem, x),
+                                   record, ws)
+        return stop or _err <= tol
+
+    if method == "nsgs":
+        ran.append("nsgs")
+        sweeps(max_iter)
+    elif method == "polish":
+        ran.append("polish")
+        newton(max_iter)
+    else:
+        budget = AUTO_SWEEPS
+        while done < max_iter:
+            ran.append("nsgs")
+            if sweeps(min(budget, max_iter - done)) or done >= max_iter:
+                break
+            ran.append("polish")
+            if newton(min(AUTO_POLISH_STEPS, max_iter - done)):
+                break
+            budget *= 2
     u = problem.velocity(r)
     err = law_error(problem, r, u)
     bounded = bool(np.linalg.norm(r) <= fr.r_bound)
@@ -238,7 +292,8 @@ def solve_law(problem, method, tol, max_iter, r0, opts, callback, time_limit, t0
         reason = "converged"
     elif reason == "converged":
         reason = "max_iter" if bounded else "unbounded"
+    stages = "+".join(dict.fromkeys(ran)) if ran else method
     return Solution(r=r, u=u, error=err, iterations=int(done), converged=reason == "converged",
                     history=np.array(mon.errors), history_iterations=np.array(mon.iterations, dtype=int),
-                    method="nsgs", seconds=time.perf_counter() - t0, reason=reason,
+                    method=stages, seconds=time.perf_counter() - t0, reason=reason,
                     cpu_seconds=time.thread_time() - c0, error_measure="law")

@@ -20,6 +20,11 @@ with other jobs on the machine, threaded BLAS made the dense-LU path 10–30 tim
 small problems and its times meaningless. Problems of at most :data:`._small.SMALL_MAX`
 contacts solved by ``nsgs``, ``polish`` or ``auto`` take the compiled small-problem path
 (:mod:`._small`).
+
+A problem on the law path (``problem.path == "law"``: a law that is not an elliptic cone, e.g.
+:class:`~frictionrules.TransformedCoulomb`) is dispatched once, before any of this, to
+:mod:`._law_path` (``"nsgs"``, ``"polish"``; ``"auto"`` alternates them; the other methods are
+refused), whose error is the laws' natural map (:func:`.law_error`).
 """
 
 from __future__ import annotations
@@ -142,8 +147,11 @@ def solve(problem: FrictionContactProblem, method: str = "auto", tol: float = 1e
     problem : FrictionContactProblem
     method : {"auto", "nsgs", "newton", "prox", "admm", "polish"}
         See the module docstring; ``"auto"`` chooses from the problem's size and structure.
+        On the law path only ``"auto"``, ``"nsgs"`` and ``"polish"`` (the others are refused,
+        naming the contact's law).
     tol : float
-        Stop when :func:`~frictionrules.multicontact.fc3d_error` ``<= tol``.
+        Stop when :func:`~frictionrules.multicontact.fc3d_error` ``<= tol``
+        (:func:`~frictionrules.multicontact.law_error` on the law path).
     max_iter : int, optional
         Sweeps (nsgs), Newton iterations (newton, polish), outer proximal iterations (prox),
         ADMM iterations (admm), all stages together (auto); defaults ``METHODS[method].max_iter``.

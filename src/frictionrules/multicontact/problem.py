@@ -136,7 +136,8 @@ class FrictionContactProblem:
         Free velocity.
     mu : float, (nc,) array, FrictionLaw or sequence of laws/floats
         Per-contact law: a number is isotropic Coulomb without normal slip (FCLIB); a law
-        must declare the capability ``"cone"`` (see the module docstring).
+        declares the capability ``"cone"`` or has f and g cones in (T, N) without internal
+        variables (the law path; see the module docstring).
     title : str
         A label (read from FCLIB ``info/title``).
     state : LawState or sequence of LawState, optional
@@ -286,7 +287,8 @@ class Solution:
     u : (3 nc,) array
         Relative velocities :math:`u = W r + q`.
     error : float
-        Final error (:func:`~frictionrules.multicontact.fc3d_error`, Siconos' measure).
+        Final error (:func:`~frictionrules.multicontact.fc3d_error`, Siconos' measure; on the
+        law path :func:`~frictionrules.multicontact.law_error`: see ``error_measure``).
     iterations : int
     converged : bool
         ``error <= tol`` (and the reactions bounded: see ``reason``).
