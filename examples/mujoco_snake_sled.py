@@ -81,7 +81,7 @@ def run(kind: str, seconds: float = 3.0) -> np.ndarray:
     data = mujoco.MjData(model)
     axes = {"floor": (1.0, 0.0, 0.0)}
     # a stick phase of the wedge law on three feet does not reach 1e-10 (W is singular: the
-    # feet's tangential impulses are not unique); each step stops at 200 sweeps (counted)
+    # feet's tangential impulses are not unique); each solve stops at 200 iterations (counted)
     solver = dict(tol=1e-8, max_iter=200)
     if kind == "sawtooth":
         sim = Simulator(model, {"floor": fr.WedgeAsperity(alpha=ALPHA, mu=MU)}, axes=axes, data=data, **solver)
