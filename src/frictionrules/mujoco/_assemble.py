@@ -1,0 +1,197 @@
+r"""The contact problem of one MuJoCo step in FCLIB's convention, from MuJoCo's own arrays.
+
+After ``mj_fwdPosition``, ``mj_fwdVelocity``, ``mj_fwdActuation`` and ``mj_fwdAcceleration``
+MuJoCo holds, for each active contact ``a`` (``dist < margin - gap``), three rows of the
+constraint Jacobian ``efc_J`` at ``contact.efc_address``: the rows of its ``frame``
+:math:`(n, t_1, t_2)`, with :math:`u = J\,\dot q` the velocity of geom 2 relative to geom 1
+and ``n`` pointing from geom 1 to geom 2 (so ``u_N > 0`` separates: FCLIB's sign). With
+:math:`h` the time step, the semi-implicit Euler step :math:`\dot q^+ = \dot q + h(\ddot
+q_{smooth} + M^{-1}J^T r / h)` gives
+
+.. math::
+
+    u^+ = W r + q, \qquad W = J M^{-1} J^T, \qquad q = J(\dot q + h\,\ddot q_{smooth})
+          + \tfrac1h\,\gamma\,e_N,
+
+``r`` the contact impulses over the step (``r_N >= 0`` compression). ``q`` is MuJoCo's
+product ``mj_mulJacVec`` (and the impulses go back through ``mj_mulJacTVec``), ``W`` is read from
+MuJoCo's ``efc_AR - diag(efc_R)`` (``mj_fwdPosition`` fills ``efc_AR`` for MuJoCo's dual
+solvers: the step sets ``opt.solver`` to PGS for the forward stages and restores it), sparse
+or dense as the model's ``opt.jacobian`` makes it; no product runs in a Python loop over
+contacts.
+
+The gap term :math:`\gamma` (speculative contacts with a Baumgarte correction): a contact at
+the distance ``dist > 0`` may close it within the step (:math:`\gamma = ` ``dist``), a
+penetration ``dist < 0`` is pushed out at the rate :math:`\beta\,` ``dist`` ``/h``
+(:math:`\gamma = \beta` ``dist``, ``baumgarte`` :math:`= \beta`).
+
+Material axes: where a geom of the contact has an axis (``axes``), its direction
+:math:`a = R_{geom} a_{local}` projected on the contact plane, :math:`t = a - (a\cdot n)n`,
+is the law's direction 1: the rows T1, T2 are turned within the plane to
+:math:`(t/|t|,\ n\times t/|t|)`. Where :math:`|t| <` :data:`AXIS_NORMAL_TOL` (the axis is
+normal to the contact plane, within 1e-6 rad) the in-plane direction is undefined and the
+contact keeps MuJoCo's frame (``StepResult.axis_fallback`` counts such contacts).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import FrictionRulesError
+
+__all__ = ["assemble", "AXIS_NORMAL_TOL", "Assembled"]
+
+#: Below this length of the unit axis projected on the contact plane, MuJoCo's frame is kept.
+AXIS_NORMAL_TOL = 1e-6
+
+#: MuJoCo's constraint types (``mjtConstraint``) that are not contacts, as users name them.
+_NOT_CONTACT = {0: "an equality constraint", 1: "dof friction loss", 2: "tendon friction loss",
+                3: "a joint limit", 4: "a tendon limit"}
+_OBJECT = {0: "mjOBJ_EQUALITY", 1: "mjOBJ_DOF", 2: "mjOBJ_TENDON", 3: "mjOBJ_JOINT", 4: "mjOBJ_TENDON"}
+_CONTACT_FRICTIONLESS = 5
+
+
+class Assembled:
+    """The problem's pieces: ``W`` (CSR, or a dense array as MuJoCo stores it; rows in the law
+    frames), ``q``; per
+    contact the world frame rows ``frames`` (nc, 3, 3) of the law and ``mj_frames`` of
+    MuJoCo, ``pos``, ``geom1``, ``geom2``, ``gap``; ``rows`` (3 nc,) the contacts' rows of
+    MuJoCo's ``efc_*`` arrays; the count of axis fallbacks."""
+
+    __slots__ = ("W", "q", "frames", "mj_frames", "rows", "pos", "geom1", "geom2", "gap", "axis_fallback")
+
+    def __init__(self, W, q, frames, mj_frames, rows, pos, geom1, geom2, gap, axis_fallback):
+        self.W, self.q, self.frames, self.mj_frames, self.rows = W, q, frames, mj_frames, rows
+        self.pos, self.geom1, self.geom2, self.gap, self.axis_fallback = pos, geom1, geom2, gap, axis_fallback
+
+
+def refuse_other_rows(mujoco, model, data) -> None:
+    """One line naming the first constraint row that is not a contact (or a contact this
+    bridge does not take: frictionless ``condim=1``, torsional or rolling ``condim`` 4, 6,
+    flex contacts)."""
+    nefc = int(data.nefc)
+    if nefc == 0:
+        return
+    types = np.asarray(data.efc_type[:nefc])
+    other = types < _CONTACT_FRICTIONLESS
+    if other.any():
+        i = int(np.flatnonzero(other)[0])
+        t, oid = int(types[i]), int(data.efc_id[i])
+        name = mujoco.mj_id2name(model, getattr(mujoco.mjtObj, _OBJECT[t]), oid) or f"#{oid}"
+        raise FrictionRulesError(f"the model has {_NOT_CONTACT[t]} ({name!r}); frictionrules.mujoco "
+                                 "steps contact-only models (remove it or step with mj_step)")
+    if (types == _CONTACT_FRICTIONLESS).any():
+        raise FrictionRulesError("the model has a frictionless contact (condim=1); frictionrules.mujoco "
+                                 "takes condim=3 contacts only (the law gives the friction)")
+
+
+def _csr(sp, values, colind, rowadr, rownnz, shape):
+    n = shape[0]
+    indptr = np.empty(n + 1, dtype=np.int64)
+    indptr[0] = 0
+    np.cumsum(rownnz[:n], out=indptr[1:])
+    rowadr = np.asarray(rowadr[:n])
+    if n and not np.array_equal(rowadr, indptr[:-1]):
+        # rows not stored back to back: gather them (MuJoCo stores them so today)
+        idx = np.concatenate([np.arange(a, a + k) for a, k in zip(rowadr, rownnz[:n])])
+        return sp.csr_matrix((np.asarray(values)[idx], np.asarray(colind)[idx], indptr), shape=shape)
+    nnz = int(indptr[-1])
+    return sp.csr_matrix((np.array(values[:nnz]), np.array(colind[:nnz]), indptr), shape=shape)
+
+
+def _delassus(sp, mujoco, model, data):
+    """``W = efc_AR - diag(efc_R)`` (nefc, nefc): CSR for a sparse model (``opt.jacobian``), a
+    dense array otherwise (MuJoCo's own layout)."""
+    nefc = int(data.nefc)
+    R = np.asarray(data.efc_R[:nefc])
+    if mujoco.mj_isSparse(model):
+        W = _csr(sp, data.efc_AR, data.efc_AR_colind, data.efc_AR_rowadr, data.efc_AR_rownnz, (nefc, nefc))
+        rows = np.repeat(np.arange(nefc), np.diff(W.indptr))
+        diag = W.indices == rows
+        W.data[diag] -= R[rows[diag]]
+        return W
+    W = np.array(data.efc_AR[:nefc * nefc]).reshape(nefc, nefc)
+    W[np.diag_indices(nefc)] -= R
+    return W
+
+
+def _rotate(sp, W, C):
+    """``W' = Q W Q^T`` with ``Q`` block-diagonal, per contact ``[[1, 0], [0, C_a]]`` (``C_a``
+    turns MuJoCo's tangents to the law's)."""
+    nc = C.shape[0]
+    if not sp.issparse(W):
+        W4 = W.reshape(nc, 3, nc, 3).copy()
+        W4[:, 1:] = np.einsum("kij,kjlm->kilm", C, W4[:, 1:])
+        W4[:, :, :, 1:] = np.einsum("lij,kmlj->kmli", C, W4[:, :, :, 1:])
+        return W4.reshape(3 * nc, 3 * nc)
+    blocks = np.zeros((nc, 3, 3))
+    blocks[:, 0, 0] = 1.0
+    blocks[:, 1:, 1:] = C
+    Q = sp.bsr_matrix((blocks, np.arange(nc), np.arange(nc + 1)), shape=(3 * nc, 3 * nc)).tocsr()
+    return (Q @ W @ Q.T).tocsr()
+
+
+def _law_frames(frames, owner, geom_xmat, axes):
+    """Turn each contact's tangent rows to its owner geom's axis; returns the frames and the
+    count of contacts whose axis was normal to the plane."""
+    with_axis = np.flatnonzero(owner >= 0)
+    if with_axis.size == 0:
+        return frames, 0
+    g = owner[with_axis]
+    R = geom_xmat[g].reshape(-1, 3, 3)
+    a = np.einsum("kij,kj->ki", R, axes[g])
+    n = frames[with_axis, 0]
+    t = a - np.einsum("ki,ki->k", a, n)[:, None] * n
+    length = np.linalg.norm(t, axis=1)
+    ok = length >= AXIS_NORMAL_TOL
+    t = t[ok] / length[ok, None]
+    rows = with_axis[ok]
+    out = frames.copy()
+    out[rows, 1] = t
+    out[rows, 2] = np.cross(frames[rows, 0], t)
+    return out, int((~ok).sum())
+
+
+def assemble(sp, mujoco, model, data, scene, baumgarte: float) -> Assembled:
+    """The problem of the current step (the forward stages have run). Contacts are those with
+    constraint rows (``efc_address >= 0``), in MuJoCo's order."""
+    refuse_other_rows(mujoco, model, data)
+    ncon = int(data.ncon)
+    con = data.contact
+    addr = np.asarray(con.efc_address[:ncon]) if ncon else np.zeros(0, int)
+    active = np.flatnonzero(addr >= 0)
+    if active.size == 0:
+        z = np.zeros(0)
+        return Assembled(None, z, np.zeros((0, 3, 3)), np.zeros((0, 3, 3)), z.astype(int),
+                         np.zeros((0, 3)), z.astype(int), z.astype(int), z, 0)
+    dim = np.asarray(con.dim[:ncon])[active]
+    geom = np.asarray(con.geom[:ncon])[active]
+    if (geom < 0).any():
+        raise FrictionRulesError("the model has flex contacts; frictionrules.mujoco takes geom contacts only")
+    if (dim != 3).any():
+        j = int(np.flatnonzero(dim != 3)[0])
+        raise FrictionRulesError(f"the contact of geoms {scene.names[geom[j, 0]]!r} and {scene.names[geom[j, 1]]!r} "
+                                 f"has condim={int(dim[j])}; frictionrules.mujoco takes condim=3 only")
+    geom1, geom2 = geom[:, 0].copy(), geom[:, 1].copy()
+    rows = (addr[active][:, None] + np.arange(3)).ravel()
+    W = _delassus(sp, mujoco, model, data)
+    whole = rows.size == W.shape[0] and np.array_equal(rows, np.arange(rows.size))
+    if not whole:
+        W = W[rows][:, rows]
+    frames = np.asarray(con.frame[:ncon])[active].reshape(-1, 3, 3)
+    owner = scene.axis_owner(geom1, geom2)
+    law_frames, fallback = _law_frames(frames, owner, np.asarray(data.geom_xmat), scene.axes)
+    h = float(model.opt.timestep)
+    Jv = np.zeros(int(data.nefc))
+    mujoco.mj_mulJacVec(model, data, Jv, np.asarray(data.qvel) + h * np.asarray(data.qacc_smooth))
+    q = Jv if whole else Jv[rows]
+    if law_frames is not frames:
+        # C[a, i, j] = t'_i . t_j: MuJoCo's tangents to the law's, within the contact plane
+        C = np.einsum("kid,kjd->kij", law_frames[:, 1:], frames[:, 1:])
+        W = _rotate(sp, W, C)
+        q3 = q.reshape(-1, 3)
+        q3[:, 1:] = np.einsum("kij,kj->ki", C, q3[:, 1:])
+    gap = np.asarray(con.dist[:ncon])[active]
+    q[0::3] += np.where(gap > 0, gap, baumgarte * gap) / h
+    pos = np.asarray(con.pos[:ncon])[active]
+    return Assembled(W, q, law_frames, frames, rows, pos, geom1, geom2, gap, fallback)

@@ -1,0 +1,306 @@
+r"""One MuJoCo step with the library's contact solve: :func:`step` and :class:`Simulator`.
+
+The stages of a step (MuJoCo's own functions, the contact solve replaced):
+
+1. ``mj_fwdPosition``, ``mj_fwdVelocity``, ``mj_fwdActuation``, ``mj_fwdAcceleration``:
+   collision, the contacts' constraint rows, the smooth acceleration :math:`\ddot q_{smooth}`;
+   during these calls ``opt.solver`` is PGS, for which MuJoCo's ``mj_fwdPosition`` fills
+   ``efc_AR`` (its ``mj_projectConstraint``), and ``opt.cone`` elliptic, so that each contact
+   has the three rows of its frame; both are restored (a pyramidal model steps the same way);
+2. the problem :math:`u = W r + q` of the contacts in the laws' frames (:mod:`._assemble`);
+3. :func:`frictionrules.solve` from the previous step's impulses (warm start);
+4. :math:`\ddot q = \ddot q_{smooth} + M^{-1}J^T r/h` (``mj_solveM``) and MuJoCo's integrator
+   (``mj_Euler`` for ``opt.integrator="Euler"``, ``mj_implicit`` for ``"implicit"`` and
+   ``"implicitfast"``; ``"RK4"`` is refused: it would call MuJoCo's solver at its stages).
+
+``data.qacc``, ``data.qfrc_constraint`` and the contacts' ``data.efc_force`` hold the step's
+values (``efc_force`` in the elliptic layout, (N, T1, T2) of MuJoCo's contact frame: what
+``mj_contactForce`` reads for an elliptic-cone model). Sensors are not evaluated.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .._optional import require
+from ..errors import FrictionRulesError, check_scalar
+from ._assemble import assemble
+from ._scene import Scene
+
+__all__ = ["step", "Simulator", "StepResult"]
+
+
+def _mujoco():
+    return require("mujoco", extra="mujoco")
+
+
+@dataclass(frozen=True)
+class StepResult:
+    r"""The contacts of one step and their solve.
+
+    Attributes
+    ----------
+    time : float
+        ``data.time`` after the step.
+    r : (nc, 3) array
+        Impulse of each contact over the step in its law frame ``(N, T1, T2)``: ``r_N >= 0``
+        pushes geom 2 away from geom 1; the tangential impulse on geom 2 is ``r_T``
+        (the laws' ``T = -r_T``, ``docs/conventions.md``).
+    frames : (nc, 3, 3) array
+        Rows ``n, t1, t2`` in world coordinates: ``n`` from geom 1 to geom 2, ``t1`` the law's
+        direction 1 (the geom's axis projected on the plane, else MuJoCo's ``frame``).
+    force : (nc, 3) array
+        Mean contact force on geom 2 over the step in world coordinates, ``r @ frames / h`` (N).
+    pos : (nc, 3) array
+        Contact points (MuJoCo's ``contact.pos``).
+    geom1, geom2 : (nc,) int arrays
+    gap : (nc,) array
+        MuJoCo's ``contact.dist`` (negative: penetration).
+    solution : Solution or None
+        The solve (None without contacts): ``error``, ``iterations``, ``converged``, ``method``.
+    warm_started : int
+        Contacts whose initial impulse came from the previous step.
+    axis_fallback : int
+        Contacts whose geom's axis was normal to the contact plane (MuJoCo's frame kept).
+    """
+
+    time: float
+    r: np.ndarray = field(repr=False)
+    frames: np.ndarray = field(repr=False)
+    force: np.ndarray = field(repr=False)
+    pos: np.ndarray = field(repr=False)
+    geom1: np.ndarray = field(repr=False)
+    geom2: np.ndarray = field(repr=False)
+    gap: np.ndarray = field(repr=False)
+    solution: object = field(repr=False, default=None)
+    warm_started: int = 0
+    axis_fallback: int = 0
+
+    @property
+    def nc(self) -> int:
+        """Number of contacts."""
+        return int(self.r.shape[0])
+
+    @property
+    def converged(self) -> bool:
+        """Whether the solve reached its tolerance (True without contacts)."""
+        return self.solution is None or bool(self.solution.converged)
+
+
+def _warm_start(previous: StepResult | None, A, h: float, ngeom: int, distance: float):
+    """Initial impulses ``(3 nc,)``: each contact takes the world force of the previous step's
+    contact of the same geom pair nearest to it, within ``distance``, in its own frame.
+    Vectorized over the contacts: the previous contacts sorted by pair, each new contact
+    compared with the (few) previous ones of its pair."""
+    nc = A.pos.shape[0]
+    if previous is None or previous.nc == 0 or nc == 0:
+        return None, 0
+    key_new = A.geom1 * ngeom + A.geom2
+    key_old = previous.geom1 * ngeom + previous.geom2
+    order = np.argsort(key_old, kind="stable")
+    sorted_keys = key_old[order]
+    lo = np.searchsorted(sorted_keys, key_new, "left")
+    hi = np.searchsorted(sorted_keys, key_new, "right")
+    group = int((hi - lo).max())
+    if group == 0:
+        return None, 0
+    cand = lo[:, None] + np.arange(group)
+    valid = cand < hi[:, None]
+    idx = order[np.minimum(cand, sorted_keys.size - 1)]
+    diff = A.pos[:, None, :] - previous.pos[idx]
+    d2 = np.einsum("ijk,ijk->ij", diff, diff)
+    d2[~valid] = np.inf
+    best = np.argmin(d2, axis=1)
+    rows = np.arange(nc)
+    ok = d2[rows, best] <= distance * distance
+    if not ok.any():
+        return None, 0
+    j = idx[rows, best][ok]
+    r0 = np.zeros((nc, 3))
+    r0[ok] = np.einsum("kij,kj->ki", A.frames[ok], previous.force[j]) * h
+    r0[:, 0] = np.maximum(r0[:, 0], 0.0)
+    return r0.ravel(), int(ok.sum())
+
+
+class _Params:
+    __slots__ = ("baumgarte", "method", "tol", "max_iter", "warm_distance")
+
+    def __init__(self, baumgarte, method, tol, max_iter, warm_distance):
+        self.baumgarte = check_scalar("baumgarte", baumgarte, lo=0.0, hi=1.0)
+        self.tol = check_scalar("tol", tol, lo=0.0)
+        self.max_iter = max_iter
+        self.method = method
+        self.warm_distance = check_scalar("warm_distance", warm_distance, lo=0.0)
+
+
+#: MuJoCo's warnings that mean contacts or their rows were dropped for want of memory.
+_FULL = ("mjWARN_CONTACTFULL", "mjWARN_CNSTRFULL")
+
+_INTEGRATORS = {0: "mj_Euler", 2: "mj_implicit", 3: "mj_implicit"}
+
+
+def _forward(mujoco, model, data):
+    if int(model.opt.integrator) not in _INTEGRATORS:
+        raise FrictionRulesError("model.opt.integrator = RK4 is refused (its stages call MuJoCo's "
+                                 "solver); use Euler, implicit or implicitfast")
+    opt = model.opt
+    full = [int(getattr(mujoco.mjtWarning, name)) for name in _FULL]
+    before = [int(data.warning[i].number) for i in full]
+    solver, cone = int(opt.solver), int(opt.cone)
+    opt.solver = mujoco.mjtSolver.mjSOL_PGS     # so that MuJoCo allocates and fills efc_AR
+    opt.cone = mujoco.mjtCone.mjCONE_ELLIPTIC   # rows N, T1, T2 of each contact's frame
+    try:
+        mujoco.mj_fwdPosition(model, data)
+        mujoco.mj_fwdVelocity(model, data)
+        mujoco.mj_fwdActuation(model, data)
+        mujoco.mj_fwdAcceleration(model, data)
+    finally:
+        opt.solver, opt.cone = solver, cone
+    for name, i, n in zip(_FULL, full, before):
+        if int(data.warning[i].number) > n:
+            raise FrictionRulesError(f"MuJoCo's arena was full ({name}): contacts or their rows were dropped; "
+                                     "give the model more memory (<size memory=\"64M\"/>: the step needs "
+                                     "efc_AR, nefc^2 entries at most)")
+
+
+def _advance(mujoco, model, data, scene: Scene, previous, p: _Params) -> StepResult:
+    import scipy.sparse as sp
+
+    from ..multicontact import FrictionContactProblem, solve
+    _forward(mujoco, model, data)
+    h = float(model.opt.timestep)
+    A = assemble(sp, mujoco, model, data, scene, p.baumgarte)
+    nc = A.pos.shape[0]
+    sol, warm = None, 0
+    if nc == 0:
+        r = np.zeros((0, 3))
+        data.qacc[:] = data.qacc_smooth
+        data.qfrc_constraint[:] = 0.0
+    else:
+        laws = scene.laws_of(A.geom1, A.geom2)
+        first = laws[0]
+        mu = first if all(law is first for law in laws) else laws
+        problem = FrictionContactProblem(A.W, A.q, mu)
+        r0, warm = _warm_start(previous, A, h, scene.ngeom, p.warm_distance)
+        sol = solve(problem, p.method, p.tol, p.max_iter, r0=r0)
+        r = sol.r.reshape(nc, 3)
+    force = np.einsum("ki,kij->kj", r, A.frames) / h
+    if nc:
+        # the impulses in MuJoCo's frames are its efc_force times h; J^T of them by MuJoCo
+        efc = np.zeros(int(data.nefc))
+        efc[A.rows] = np.einsum("kij,kj->ki", A.mj_frames, force).ravel()
+        data.efc_force[:] = efc
+        impulse = np.zeros(int(model.nv))
+        mujoco.mj_mulJacTVec(model, data, impulse, efc)
+        x = impulse[None, :].copy()
+        mujoco.mj_solveM(model, data, x, impulse[None, :])
+        data.qacc[:] = np.asarray(data.qacc_smooth) + x[0]
+        data.qfrc_constraint[:] = impulse
+    getattr(mujoco, _INTEGRATORS[int(model.opt.integrator)])(model, data)
+    return StepResult(time=float(data.time), r=r, frames=A.frames, force=force, pos=A.pos, geom1=A.geom1,
+                      geom2=A.geom2, gap=A.gap, solution=sol, warm_started=warm, axis_fallback=A.axis_fallback)
+
+
+def step(model, data, laws, axes=None, *, default=None, previous: StepResult | None = None,
+         baumgarte: float = 0.2, method: str = "auto", tol: float = 1e-10, max_iter: int | None = 1000,
+         warm_distance: float = 0.01) -> StepResult:
+    r"""Advance ``data`` by one ``model.opt.timestep`` with the contacts solved by the library.
+
+    MuJoCo keeps the model, collision, mass matrix and integration; the contact impulses are
+    the solution of :class:`~frictionrules.FrictionContactProblem` :math:`u = W r + q` built
+    from MuJoCo's own ``efc_J`` and ``efc_AR`` (see ``docs/mujoco.md``).
+
+    Parameters
+    ----------
+    model : mujoco.MjModel
+        Contact-only (no equality constraints, joint or tendon limits, friction loss), every
+        contact ``condim=3``, integrator Euler, implicit or implicitfast.
+    data : mujoco.MjData
+        Advanced in place (``qpos``, ``qvel``, ``act``, ``time``; ``qacc``,
+        ``qfrc_constraint`` and ``efc_force`` hold the step's values).
+    laws : mapping
+        Geom name, or pair of geom names (order-free), to a law that
+        :class:`~frictionrules.FrictionContactProblem` accepts or a number (Coulomb ``mu``).
+        A contact takes its pair's law, else the single entry of one of its geoms (both
+        geoms' entries must then agree), else ``default``.
+    axes : mapping, optional
+        Geom name to a direction ``(3,)`` in that geom's frame: projected on each contact
+        plane, the law's direction 1 (an orthotropic law's ``angle`` is measured from it).
+    default : law or number, optional
+        The law of contacts that no entry covers (without it such a contact is an error).
+    previous : StepResult, optional
+        The previous step's result: its contact forces warm-start the solve.
+    baumgarte : float
+        :math:`\beta \in [0, 1]`: a penetration ``dist < 0`` is removed at the rate
+        :math:`\beta\,|dist|/h`; a contact at ``0 < dist < margin`` may close within the step.
+    method, tol, max_iter
+        As in :func:`frictionrules.solve`; ``tol`` is 1e-10 here (at 1e-8, three stacked boxes
+        crept 0.13 mm in 1 s of resting, measured; at 1e-10, 4e-13 m) and ``max_iter`` 1000
+        (a solve that stalls above ``tol``, e.g. a non-associated law sticking where W is
+        singular, would otherwise run the method's own limit, 100,000 NSGS sweeps: seconds
+        per step). A solve stopped above ``tol`` is applied all the same; ``StepResult``
+        and ``Simulator.unconverged`` say so.
+    warm_distance : float
+        A contact is warm-started from the previous step's contact of the same geom pair
+        nearest to it within this distance (model length units).
+
+    Returns
+    -------
+    StepResult
+    """
+    mujoco = _mujoco()
+    p = _Params(baumgarte, method, tol, max_iter, warm_distance)
+    return _advance(mujoco, model, data, Scene(mujoco, model, laws, axes, default), previous, p)
+
+
+class Simulator:
+    """A MuJoCo model stepped by :func:`step`, keeping the warm start and the statistics.
+
+    Parameters
+    ----------
+    model : mujoco.MjModel
+    laws, axes, default, baumgarte, method, tol, max_iter, warm_distance
+        As in :func:`step` (names resolved once).
+    data : mujoco.MjData, optional
+        The state to advance (a fresh ``MjData`` by default).
+
+    Attributes
+    ----------
+    model, data
+    last : StepResult or None
+        The last step's result.
+    steps : int
+        Steps taken.
+    unconverged : int
+        Steps whose solve stopped above ``tol`` (their impulses were applied all the same).
+    max_error : float
+        Largest final error of a solve so far.
+    """
+
+    def __init__(self, model, laws, axes=None, *, data=None, default=None, baumgarte: float = 0.2,
+                 method: str = "auto", tol: float = 1e-10, max_iter: int | None = 1000,
+                 warm_distance: float = 0.01):
+        self._mujoco = _mujoco()
+        self.model = model
+        self.data = self._mujoco.MjData(model) if data is None else data
+        self._scene = Scene(self._mujoco, model, laws, axes, default)
+        self._params = _Params(baumgarte, method, tol, max_iter, warm_distance)
+        self.last: StepResult | None = None
+        self.steps = 0
+        self.unconverged = 0
+        self.max_error = 0.0
+
+    def step(self, n: int = 1) -> StepResult:
+        """Advance ``n`` steps; returns the last one's :class:`StepResult`."""
+        if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
+            raise FrictionRulesError(f"n = {n!r} violates: an integer >= 1")
+        for _ in range(int(n)):
+            self.last = _advance(self._mujoco, self.model, self.data, self._scene, self.last, self._params)
+            self.steps += 1
+            sol = self.last.solution
+            if sol is not None:
+                self.unconverged += not sol.converged
+                self.max_error = max(self.max_error, float(sol.error))
+        return self.last
