@@ -30,7 +30,7 @@ import numpy as np
 
 from .errors import FrictionRulesError, check_scalar
 from .io import read_fclib, read_guess, read_solution, write_solution
-from .multicontact import METHODS, FrictionContactProblem, Solution, solve, solve_batch
+from .multicontact import METHODS, SMALL_MAX, SMALL_MODES, FrictionContactProblem, Solution, solve, solve_batch
 
 __all__ = ["solve_many", "SolveRecord", "CSV_HEADER", "read_table"]
 
@@ -146,7 +146,6 @@ def _start_up(method: str, path: str) -> float:
     """Load (on a first run: compile) what ``method`` needs on ``path`` (:data:`PATHS`); its
     wall time. Called once per process and pair (:data:`_started`). Only the paths a task's problems take are loaded: a one-contact
     file compiles the small path alone, not the solvers of large problems."""
-    from .multicontact._solve import SMALL_MAX
     t0 = time.perf_counter()
     nc = 1 if path != "general" else SMALL_MAX + 1
     W = np.eye(3 * nc) + 0.1
@@ -163,7 +162,6 @@ def _paths(problems, method: str, plain: bool, direct) -> list[str]:
     rule) the compiled batch when ``plain``, else the small path where ``direct[k]`` (no time
     limit, no callback); the others the general path. (A problem that ``auto`` leaves
     unconverged on the small path goes on with the general path, loaded when it does.)"""
-    from .multicontact._solve import SMALL_MAX, SMALL_MODES
     small = [p.nc <= SMALL_MAX and p.frames is None and method in SMALL_MODES and (plain or d)
              for p, d in zip(problems, direct)]
     paths = [PATHS[0] if plain else PATHS[1]] if any(small) else []

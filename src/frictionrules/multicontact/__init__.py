@@ -16,7 +16,9 @@ from ._relaxation import RelaxationComparison, compare_relaxation
 from ._solve import solve, solve_batch, thread_limits
 from .error import fc3d_error, project_cone
 from .problem import FrictionContactProblem, Solution
+from ._solve import SMALL_MAX, SMALL_MODES
 
 __all__ = ["FrictionContactProblem", "Solution", "solve", "solve_batch", "fc3d_error", "project_cone", "METHODS",
            "SolverMethod", "NSGSOptions", "NewtonOptions", "ProxOptions", "ADMMOptions", "PolishOptions",
-           "IterationInfo", "compare_relaxation", "RelaxationComparison", "thread_limits"]
+           "IterationInfo", "compare_relaxation", "RelaxationComparison", "thread_limits",
+           "SMALL_MAX", "SMALL_MODES"]
