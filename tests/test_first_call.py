@@ -181,3 +181,37 @@ def test_the_time_limit_excludes_the_start_up(monkeypatch, tmp_path):
     assert calls == [("start-up", "general"), ("solve", 0.75), ("solve", 0.75)]
     assert records[0].startup_seconds == 2.5 and records[1].startup_seconds == 0.0
     assert all(r.converged for r in records)
+
+
+_GENERATED = """
+    import json
+    import numpy as np
+    from frictionrules import Coulomb
+    from frictionrules.contact._generated import generated_step, generated_kernel
+
+    law = Coulomb(mu=0.4)
+    n = 4
+    du = np.array([[0.1, 0.0, -0.1], [0.0, 0.0, 0.1], [0.5, 0.2, -0.1], [0.0, 0.0, -0.2]])
+    step, failed, _ = generated_step(law, 1.0, 1.0, np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 0)), du,
+                                     tangent=False)
+    m = generated_kernel(law).module
+    print(json.dumps({"force": step.force.tolist(), "failed": failed.tolist(),
+                      "plain": [sum(m._batch_plain.stats.cache_hits.values()),
+                                sum(m._batch_plain.stats.cache_misses.values())],
+                      "tangent_signatures": len(m._batch_tangent.signatures)}))
+"""
+
+
+def test_a_laws_generated_kernel_is_cached_between_processes_and_compiled_per_use(tmp_path):
+    """A law's generated module (written to ``FRICTIONRULES_CACHE_DIR``, imported from there)
+    keeps its machine code in Numba's cache: a second interpreter loads the batch loop
+    (``cache_hits``, no miss). A caller that never asks for the tangent never compiles the
+    loop with the tangent (two entries, each compiled when first called). The forces are
+    Coulomb's (4.2): ``|T| <= mu N`` after the return."""
+    first = json.loads(_python(_GENERATED, tmp_path))
+    second = json.loads(_python(_GENERATED, tmp_path))
+    assert first["plain"] == [0, 1] and second["plain"] == [1, 0]
+    assert first["tangent_signatures"] == 0 and second["tangent_signatures"] == 0
+    force = np.array(second["force"])
+    assert np.array_equal(force, np.array(first["force"])) and not any(second["failed"])
+    assert np.all(np.hypot(force[:, 0], force[:, 1]) <= 0.4 * np.maximum(force[:, 2], 0.0) * (1 + 1e-12))
