@@ -87,13 +87,13 @@ def main() -> None:
             for rnd in range(args.rounds):
                 for label, src in sources:
                     tmp = Path(scratch) / f"{label}-{rnd}-{names.index(name)}"
-                    tmp.mkdir()
+                    for sub in ("first", "again"):      # outputs apart: a run file would resume
+                        (tmp / sub).mkdir(parents=True)
                     env = dict(os.environ, PYTHONPATH=str(Path(src).resolve()), MPLBACKEND="Agg",
                                NUMBA_CACHE_DIR=str(tmp / "numba"), FRICTIONRULES_CACHE_DIR=str(tmp / "kernels"))
-                    argv = commands(tmp)[name]
                     load = os.getloadavg()[0]
-                    cold = run_once(argv, env, args.timeout)
-                    warm = run_once(argv, env, args.timeout)
+                    cold = run_once(commands(tmp / "first")[name], env, args.timeout)
+                    warm = run_once(commands(tmp / "again")[name], env, args.timeout)
                     row = [name, label, f"{cold[0]:.1f}", f"{cold[1]:.1f}", f"{warm[0]:.2f}", f"{warm[1]:.2f}",
                            f"{cold[2]}/{warm[2]}", f"{load:.1f}"]
                     print("  ".join(row), flush=True)
