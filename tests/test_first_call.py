@@ -215,3 +215,14 @@ def test_a_laws_generated_kernel_is_cached_between_processes_and_compiled_per_us
     force = np.array(second["force"])
     assert np.array_equal(force, np.array(first["force"])) and not any(second["failed"])
     assert np.all(np.hypot(force[:, 0], force[:, 1]) <= 0.4 * np.maximum(force[:, 2], 0.0) * (1 + 1e-12))
+
+
+def test_the_commands_that_need_numba_show_the_compile_notice():
+    """The command line draws the notice for the commands that may compile (those needing Numba:
+    solve, drive, assembly, paper), not for the others (law) nor with ``--quiet``."""
+    from frictionrules.cli import _compiles, build_parser
+    parse = build_parser().parse_args
+    assert _compiles(parse(["solve", "x.hdf5"])) and _compiles(parse(["drive", "x.toml"]))
+    assert _compiles(parse(["paper"])) and _compiles(parse(["assembly", "x.toml", "--out", "run.h5"]))
+    assert not _compiles(parse(["law", "coulomb", "--mu", "0.5", "--force", "0", "0", "--normal", "1"]))
+    assert not _compiles(parse(["drive", "x.toml", "--quiet"]))

@@ -144,8 +144,9 @@ PATHS = ("small batch", "small", "general")
 
 def _start_up(method: str, path: str) -> float:
     """Load (on a first run: compile) what ``method`` needs on ``path`` (:data:`PATHS`); its
-    wall time. Called once per process and pair (:data:`_started`). Only the paths a task's problems take are loaded: a one-contact
-    file compiles the small path alone, not the solvers of large problems."""
+    wall time. Called once per process and pair (:data:`_started`), for the paths a task's
+    problems take: a one-contact file compiles the small path alone, not the solvers of large
+    problems."""
     t0 = time.perf_counter()
     nc = 1 if path != "general" else SMALL_MAX + 1
     W = np.eye(3 * nc) + 0.1
