@@ -30,8 +30,6 @@ _SYMBOL = "frictionrules_dgelsd"
 
 
 def _register() -> None:
-    import ctypes  # noqa: F401  (cython_lapack's capsules are read through ctypes by Numba)
-
     import llvmlite.binding as llvm
     from numba.core.extending import get_cython_function_address
 
