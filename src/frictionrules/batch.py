@@ -30,7 +30,7 @@ import numpy as np
 
 from .errors import FrictionRulesError, check_scalar
 from .io import read_fclib, read_guess, read_solution, write_solution
-from .multicontact import METHODS, FrictionContactProblem, Solution, solve, solve_batch
+from .multicontact import METHODS, SMALL_MAX, SMALL_MODES, FrictionContactProblem, Solution, solve, solve_batch
 
 __all__ = ["solve_many", "SolveRecord", "CSV_HEADER", "read_table"]
 
@@ -76,9 +76,11 @@ class SolveRecord:
     requested : str
         The ``method`` argument.
     startup_seconds : float
-        Wall time the task's process spent starting up (loading the compiled kernels) before
-        this problem; not part of ``seconds``. Non-zero only for the first problem a fresh
-        process solves.
+        Wall time the task's process spent starting up (loading the compiled kernels, or
+        compiling them where Numba's cache does not hold them yet) before this problem; not
+        part of ``seconds`` nor of the time limit. Non-zero only for the first problem of a
+        task that needed kernels its process had not loaded yet (only the solver paths the
+        task's problems take are loaded).
     """
 
     name: str
@@ -133,14 +135,38 @@ def _warm_start(item, name, source, n):
     return read_solution(path, size=n)
 
 
-@functools.lru_cache(maxsize=None)
-def _start_up(method: str) -> float:
-    """Load what ``method`` needs (compiled kernels, SciPy), once per process; its wall time."""
+#: The paths :func:`_start_up` loads: the compiled batch of small problems
+#: (:func:`~frictionrules.solve_batch`), one small problem (:func:`~frictionrules.solve`
+#: without time limit or callback) and the general path (a larger problem, or any problem with
+#: a time limit or a callback).
+PATHS = ("small batch", "small", "general")
+
+
+def _start_up(method: str, path: str) -> float:
+    """Load (on a first run: compile) what ``method`` needs on ``path`` (:data:`PATHS`); its
+    wall time. Called once per process and pair (:data:`_started`), for the paths a task's
+    problems take: a one-contact file compiles the small path alone, not the solvers of large
+    problems."""
     t0 = time.perf_counter()
-    for nc in (1, 17):                       # the small-problem path and the general one
-        W = np.eye(3 * nc) + 0.1
-        solve(FrictionContactProblem(W, np.tile([-1.0, 0.5, 0.1], nc), [0.5] * nc), method=method, max_iter=3)
+    nc = 1 if path != "general" else SMALL_MAX + 1
+    W = np.eye(3 * nc) + 0.1
+    problem = FrictionContactProblem(W, np.tile([-1.0, 0.5, 0.1], nc), [0.5] * nc)
+    if path == "small batch":
+        solve_batch([problem], method=method, max_iter=3)
+    else:
+        solve(problem, method=method, max_iter=3)
     return time.perf_counter() - t0
+
+
+def _paths(problems, method: str, plain: bool, direct) -> list[str]:
+    """The :data:`PATHS` that ``problems`` take: the small ones (:func:`~frictionrules.solve`'s
+    rule) the compiled batch when ``plain``, else the small path where ``direct[k]`` (no time
+    limit, no callback); the others the general path. (A problem that ``auto`` leaves
+    unconverged on the small path goes on with the general path, loaded when it does.)"""
+    small = [p.nc <= SMALL_MAX and p.frames is None and method in SMALL_MODES and (plain or d)
+             for p, d in zip(problems, direct)]
+    paths = [PATHS[0] if plain else PATHS[1]] if any(small) else []
+    return paths + ([PATHS[2]] if not all(small) else [])
 
 
 def _read(job):
@@ -160,17 +186,25 @@ def _record(name, problem, s, method, startup) -> SolveRecord:
                        solution=s, requested=method, cpu_seconds=s.cpu_seconds, startup_seconds=startup)
 
 
+#: ``(method, path)`` pairs this process has started.
+_started: set = set()
+
+
 def _solve_batch(jobs) -> list[SolveRecord]:
     """The problems of one task, after the process's start-up (timed apart). Without warm
     starts, callbacks and time limits they go through :func:`~frictionrules.solve_batch` (the
     small ones in one compiled call), else one :func:`~frictionrules.solve` each."""
-    fresh = _start_up.cache_info().currsize == 0
     kwargs = jobs[0][2]
-    startup = _start_up(kwargs["method"])
     read = [_read(job) for job in jobs]
     out: list = [p if isinstance(p, SolveRecord) else None for p, _r0 in read]
     todo = [k for k, rec in enumerate(out) if rec is None]
     plain = kwargs["time_limit"] is None and all(read[k][1] is None and jobs[k][4] is None for k in todo)
+    direct = [kwargs["time_limit"] is None and jobs[k][4] is None for k in todo]
+    paths = _paths([read[k][0] for k in todo], kwargs["method"], plain, direct)
+    new = [path for path in paths if (kwargs["method"], path) not in _started]
+    startup = sum(_start_up(kwargs["method"], path) for path in new)
+    _started.update((kwargs["method"], path) for path in new)
+    fresh = bool(new)
     if plain:
         solutions = solve_batch([read[k][0] for k in todo], kwargs["method"], kwargs["tol"], kwargs["max_iter"])
     else:

@@ -96,7 +96,9 @@ def _main(argv) -> int:
     debug = args.debug or os.environ.get("FRICTIONRULES_DEBUG", "") not in ("", "0")
     try:
         check_needs(args)
-        return int(args.run(args) or 0)
+        from .._progress import CompileNotice
+        with CompileNotice(enabled=_compiles(args)):   # a line on a terminal while Numba compiles
+            return int(args.run(args) or 0)
     except ModuleNotFoundError as exc:  # an optional package: name the extra that installs it
         from .._optional import missing_module_message
         if (msg := missing_module_message(exc)) is None:
@@ -111,6 +113,12 @@ def _main(argv) -> int:
         return 130
     except Exception as exc:
         return _internal_error(args.command, exc, debug)
+
+
+def _compiles(args) -> bool:
+    """Whether the command of ``args`` may compile kernels (it needs Numba), and is not quiet."""
+    from ._needs import needs
+    return "numba" in needs(args)[0] and not getattr(args, "quiet", False)
 
 
 def _internal_error(command: str, exc: Exception, debug: bool) -> int:

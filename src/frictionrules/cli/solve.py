@@ -54,7 +54,9 @@ def register(sub) -> None:
                    help="iteration limit (default: per method, see docs/multicontact.md)")
     p.add_argument("--time-limit", type=_positive_float, default=None, metavar="SECONDS",
                    help="wall-clock limit per problem; a problem stopped by it is reported as not "
-                        "converged (reason time_limit)")
+                        "converged (reason time_limit). It bounds the solve, not the start-up before "
+                        "it (loading the compiled kernels or, on a first run, compiling them, which "
+                        "cannot be interrupted), reported apart on the last line")
     p.add_argument("--csv", metavar="OUT.csv",
                    help="also write the table to this CSV file, after every problem; a folder run "
                         "skips the files this table already lists for the same method (resume)")

@@ -175,8 +175,8 @@ class GeneratedKernel:
         arrays) in, a :class:`~frictionrules.contact._kernel_batch.BatchResult` out (no
         substeps: ``failed`` where the iteration failed)."""
         from ._kernel_batch import run_chunks
-        return run_chunks(self.module._batch, (self.fn, row, bool(tangent)), batch, self.nq,
-                          tangent)
+        loop = self.module._batch_tangent if tangent else self.module._batch_plain
+        return run_chunks(loop, (self.fn, row), batch, self.nq, tangent)
 
 
 @dataclass(frozen=True, eq=False)

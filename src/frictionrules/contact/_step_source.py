@@ -81,8 +81,10 @@ def _body(c, law, kt, kn, values, out, want):
 #: contact's rows), and the batch loop of :meth:`ContactModel.update` on the batch's arrays:
 #: the step, else the general return, contact by contact (``out.failed`` where that fails; no
 #: substeps: the caller's NumPy return takes those), without reference counting in the loop
-#: (the arrays are allocated around it), with and without the tangent compiled apart; an
-#: unsigned index (no test for a negative one at every access).
+#: (the arrays are allocated around it), with and without the tangent as two entries, each
+#: compiled when first called (a caller that never asks for the tangent never compiles that
+#: loop: each holds a copy of the step and of the general return); an unsigned index (no test
+#: for a negative one at every access).
 _ENTRIES = '''@cfunc(STEP_SIGNATURE, cache=True, error_model="numpy", fastmath=FAST)
 def _step(s, du, law, s1, res, tan, want):
     res = carray(res, (RES_SIZE,))
@@ -113,17 +115,25 @@ def _range(fn, law, batch, out, want, lo, hi, s, s1, res, ws):
 
 
 @njit(error_model="numpy", fastmath=FAST, _nrt=False)
-def _loop(fn, law, want, batch, out, lo, hi, s, s1, res, ws):
-    if want:
-        _range(fn, law, batch, out, True, lo, hi, s, s1, res, ws)
-    else:
-        _range(fn, law, batch, out, False, lo, hi, s, s1, res, ws)
+def _loop_tangent(fn, law, batch, out, lo, hi, s, s1, res, ws):
+    _range(fn, law, batch, out, True, lo, hi, s, s1, res, ws)
+
+
+@njit(error_model="numpy", fastmath=FAST, _nrt=False)
+def _loop_plain(fn, law, batch, out, lo, hi, s, s1, res, ws):
+    _range(fn, law, batch, out, False, lo, hi, s, s1, res, ws)
 
 
 @njit(nogil=True, cache=True, error_model="numpy")
-def _batch(fn, law, want, batch, out, lo, hi):
-    _loop(fn, law, want, batch, out, lo, hi, np.empty(STATE_Q + {nq}), np.empty(STATE_Q + {nq}),
-          np.empty(RES_SIZE), workspace({nq}))
+def _batch_tangent(fn, law, batch, out, lo, hi):
+    _loop_tangent(fn, law, batch, out, lo, hi, np.empty(STATE_Q + {nq}), np.empty(STATE_Q + {nq}),
+                  np.empty(RES_SIZE), workspace({nq}))
+
+
+@njit(nogil=True, cache=True, error_model="numpy")
+def _batch_plain(fn, law, batch, out, lo, hi):
+    _loop_plain(fn, law, batch, out, lo, hi, np.empty(STATE_Q + {nq}), np.empty(STATE_Q + {nq}),
+                np.empty(RES_SIZE), workspace({nq}))
 '''
 
 #: Where the general return takes over.

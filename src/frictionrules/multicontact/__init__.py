@@ -17,8 +17,9 @@ from ._solve import solve, solve_batch, thread_limits
 from .error import fc3d_error, project_cone
 from ._law_path import contact_dissipation, law_error
 from .problem import FrictionContactProblem, Solution
+from ._solve import SMALL_MAX, SMALL_MODES
 
 __all__ = ["FrictionContactProblem", "Solution", "solve", "solve_batch", "fc3d_error", "project_cone", "METHODS",
            "SolverMethod", "NSGSOptions", "NewtonOptions", "ProxOptions", "ADMMOptions", "PolishOptions",
            "IterationInfo", "compare_relaxation", "RelaxationComparison", "thread_limits", "law_error",
-           "contact_dissipation"]
+           "contact_dissipation", "SMALL_MAX", "SMALL_MODES"]

@@ -6,8 +6,9 @@ set-up at every call; here the set-up (diagonal blocks, norms), the iterations a
 error run inside one Numba function on W's CSR arrays, so that a call costs the Python
 argument checks, one compiled call and the :class:`Solution` record (``benchmarks/fclib.py``
 measures it). ``nsgs`` runs the same sweeps as the general path; ``polish`` and ``auto`` take
-dense Newton steps on the natural map (:func:`._kernels.natural_map`) with NumPy's least-squares
-solve (the minimum-norm step where J is singular). ``auto`` runs at most ``AUTO_PROBE`` sweeps,
+dense Newton steps on the natural map (:func:`._kernels.natural_map`) with LAPACK's least-squares
+solve (:func:`._lapack.min_norm_solve`, NumPy's ``lstsq``: the minimum-norm step where J is
+singular). ``auto`` runs at most ``AUTO_PROBE`` sweeps,
 the polish, then sweeps to the end of its budget and the polish again.
 """
 
@@ -20,6 +21,7 @@ import numpy as np
 
 from .._optional import require
 from . import _kernels as K
+from ._lapack import min_norm_solve
 from ._frame import UNBOUNDED, initial_reactions
 from ._options import PolishOptions
 from .problem import Solution
@@ -39,13 +41,31 @@ STAGES = ("nsgs", "polish")
 POLISH_DEFAULTS = PolishOptions()
 
 
+#: Integer constants of the compiled calls below, typed ``int64`` (``np.int64(1)``), not as
+#: literals: Numba compiles a callee once for each literal value passed to it (``_grow(.., 1)``
+#: and ``_grow(.., n)`` would be two compilations of ``_grow``, and ``nh = 0`` before a loop
+#: one more of every function it reaches) -- seconds of a first call each.
+_ZERO, _ONE = numba.int64(0), numba.int64(1)
+#: Most sweeps between two evaluations of the error in :func:`_sweeps` (``K.nsgs``).
+_INTERVAL = numba.int64(16)
+
+
+@njit(inline="always")
+def _copy(src, dst):
+    """``dst[:] = src`` for arrays of the same size. An array assigned to a slice compiles
+    Numba's check of the shapes with its formatted error message (its string functions: 3 s
+    of a first call on 2 cores); this loop compiles to the same copy without it."""
+    for k in range(src.size):
+        dst[k] = src[k]
+
+
 @njit(cache=True)
 def _error(indptr, indices, data, q, mu, dil, r, norm_q):
     err, u = K.fc3d_error_kernel(indptr, indices, data, q, mu, dil, r, norm_q)
     return err, u
 
 
-@njit(cache=True)
+@njit(inline="always")
 def _polish(indptr, indices, data, q, mu, dil, r, tol, max_iter, norm_q, hist_err, hist_it, nh, offset,
             contraction, patience, max_halvings):
     """Dense Newton steps on the natural map (see :mod:`._polish`); returns ``(steps, error, nh,
@@ -77,7 +97,7 @@ def _polish(indptr, indices, data, q, mu, dil, r, tol, max_iter, norm_q, hist_er
                                  + B2[a, l, 2] * Wd[3 * a + 2, j])
                 for c in range(3):
                     J[row, 3 * a + c] += B1[a, l, c]
-        dx = np.linalg.lstsq(J, -phi, -1.0)[0]
+        dx = min_norm_solve(J, -phi)         # np.linalg.lstsq(J, -phi, -1.0)[0], compiled faster
         alpha = 1.0
         accepted = False
         for _ in range(max_halvings + 1):
@@ -91,9 +111,9 @@ def _polish(indptr, indices, data, q, mu, dil, r, tol, max_iter, norm_q, hist_er
             break
         it += 1
         slow = slow + 1 if en > contraction * err else 0
-        r[:] = rn
+        _copy(rn, r)
         u, err = un, en
-        hist_err, hist_it = _grow(hist_err, hist_it, nh, 1)
+        hist_err, hist_it = _grow(hist_err, hist_it, nh, _ONE)
         hist_err[nh] = err
         hist_it[nh] = offset + it
         nh += 1
@@ -113,18 +133,19 @@ def _grow(h_err, h_it, nh, extra):
         return h_err, h_it
     size = max(2 * h_err.size, nh + extra)
     e, i = np.empty(size), np.empty(size, dtype=np.int64)
-    e[:nh], i[:nh] = h_err[:nh], h_it[:nh]
+    for k in range(nh):                 # a loop, not slices: see _copy
+        e[k], i[k] = h_err[k], h_it[k]
     return e, i
 
 
-@njit(cache=True)
+@njit(inline="always")
 def _sweeps(indptr, indices, data, D, q, mu, dil, r, tol, budget, norm_q, h_err, h_it, nh, offset):
     """NSGS in chunks of :data:`CHUNK` sweeps; returns ``(sweeps, error, h_err, h_it, nh)``."""
-    done, err = 0, np.inf
+    done, err = _ZERO, np.inf
     while done < budget:
         n = min(CHUNK, budget - done)
         h_err, h_it = _grow(h_err, h_it, nh, n)
-        it, err, k = K.nsgs(indptr, indices, data, D, q, mu, dil, r, tol, n, h_err[nh:], h_it[nh:], norm_q, 16)
+        it, err, k = K.nsgs(indptr, indices, data, D, q, mu, dil, r, tol, n, h_err[nh:], h_it[nh:], norm_q, _INTERVAL)
         for j in range(nh, nh + k):
             h_it[j] += offset + done
         nh += k
@@ -134,7 +155,7 @@ def _sweeps(indptr, indices, data, D, q, mu, dil, r, tol, budget, norm_q, h_err,
     return done, err, h_err, h_it, nh
 
 
-@njit(cache=True)
+@njit(inline="always")
 def small_solve(indptr, indices, data, q, mu, dil, r, u, h_err, h_it, tol, max_iter, mode, contraction, patience,
                 max_halvings, r_bound_factor):
     """Solve in place from ``r``: mode 0 nsgs, 1 polish, 2 auto (see the module docstring);
@@ -149,7 +170,7 @@ def small_solve(indptr, indices, data, q, mu, dil, r, u, h_err, h_it, tol, max_i
     nc = mu.size
     norm_q = K.norm2(q)
     D = K.diagonal_blocks(indptr, indices, data, nc)
-    nh, done, err = 0, 0, np.inf
+    nh, done, err = _ZERO, _ZERO, np.inf
     ns = 0
     budget = max_iter if mode != 2 else min(AUTO_PROBE, max_iter)
     stage = 0 if mode != 1 else 1
@@ -161,7 +182,7 @@ def small_solve(indptr, indices, data, q, mu, dil, r, u, h_err, h_it, tol, max_i
             it, err, k, h_err, h_it = _polish(indptr, indices, data, q, mu, dil, r, tol, budget, norm_q, h_err,
                                               h_it, nh, done, contraction, patience, max_halvings)
             if k == nh:                     # no step taken: the error of r as it is
-                h_err, h_it = _grow(h_err, h_it, nh, 1)
+                h_err, h_it = _grow(h_err, h_it, nh, _ONE)
                 h_err[nh], h_it[nh], k = err, done, nh + 1
             nh = k
         ns += 1
@@ -202,7 +223,7 @@ def solve_into(indptr, indices, data, q, mu, dil, r0, out, h_it, tol, max_iter, 
     :data:`CHUNK` entries gives the same answer with the whole history."""
     n = q.size
     if r0.size:
-        out[:n] = r0
+        _copy(r0, out[:n])
     else:
         out[:n] = 0.0
     it, err, bounded, ns, nh, _he, _hi = small_solve(indptr, indices, data, q, mu, dil, out[:n], out[n:2 * n],
@@ -268,7 +289,8 @@ def small_solve_many(indptr, indices, data, ptr_start, nnz_start, q, mu, dil, co
         out_int[k, 0], out_int[k, 1], out_int[k, 2] = it, bounded, ns
         out_int[k, 3] = nh if nh <= h_err.shape[1] else -1
         if he.size != h_err.shape[1] and nh <= h_err.shape[1]:     # written to a grown buffer
-            h_err[k, :nh], h_it[k, :nh] = he[:nh], hi[:nh]
+            _copy(he[:nh], h_err[k, :nh])
+            _copy(hi[:nh], h_it[k, :nh])
         out_float[k, 0] = err
         out_float[k, 1] = 1e-9 * (_clock_ns(clock) - t0)
 
