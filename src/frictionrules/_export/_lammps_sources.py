@@ -129,19 +129,35 @@ struct FrNeighHistoryView : public Fix {
 #define FR_HISTORY_FIX FrNeighHistoryView
 #endif
 
-/* The per-contact history (FR_NHISTORY doubles); see README.md. */
+/* The per-contact history (FR_NHISTORY doubles, README.md): only what the next step needs. The
+   plastic tangential displacement is not kept (the law does not read it: its increment gives
+   the dissipation); the plastic normal displacement only where the law slips normally
+   (FR_NORMAL_SLIP: its potential depends on N); the elastic normal displacement never (the
+   overlap less the plastic one), nor the force: it is the elastic response (4.2) to the
+   elastic displacements, kt de_t - kn (gap - dp_n) n, zero where the contact opened. */
 enum {
   H_ET = 0,        // elastic tangential displacement, global vector (3)
-  H_PT = 3,        // plastic tangential displacement, global vector (3)
-  H_N0 = 6,        // normal of the last step (3)
-  H_EN = 9,        // elastic normal displacement (positive opening)
-  H_PN = 10,       // plastic normal displacement (positive opening)
-  H_F = 11,        // T1, T2, N of the last step in its frame (3)
-  H_DISS = 14,     // dissipation accumulated by the contact
-  H_STATUS = 15,   // status of the last update: 0 stick, 1 slip, 2 open
-  H_Q = 16         // the law's internal variables (FR_NQ)
+  H_N0 = 3,        // normal of the last step (3)
+  H_DISS = 6,      // dissipation accumulated by the contact
+  H_STATUS = 7,    // status of the last update: 0 stick, 1 slip, 2 open
+  H_PN = 8,        // plastic normal displacement (positive opening), if FR_NORMAL_SLIP
+  H_Q = 8 + FR_NORMAL_SLIP    // the law's internal variables (FR_NQ)
 };
-#define FR_NHISTORY (16 + FR_NQ)
+#define FR_NHISTORY (8 + FR_NORMAL_SLIP + FR_NQ)
+
+/* The force on the atom of lower ID of a contact's last step (LAMMPS's setup and single()):
+   the elastic response to its elastic displacements at the normal n of that step. */
+static inline void fr_last_force(const double *h, const double *p, double gap, const double *n,
+                                 double *g)
+{
+  double dn = gap;
+#if FR_NORMAL_SLIP
+  dn -= h[H_PN];
+#endif
+  const double N = h[H_STATUS] == 2.0 ? 0.0 : -p[1] * dn;
+  const double kt = h[H_STATUS] == 2.0 ? 0.0 : p[0];
+  for (int c = 0; c < 3; c++) g[c] = kt * h[H_ET + c] - N * n[c];
+}
 
 /* Velocity of b's contact point relative to a's, v_b - v_a - (r_a w_a + r_b w_b) x n. */
 #define FR_RELATIVE_VELOCITY                                                           \
@@ -361,7 +377,9 @@ void FR_CLASS::compute(int eflag, int vflag)
   auto view = static_cast<FR_HISTORY_FIX *>(fix_history);
   int **firsttouch = view->firstflag;
   double **firsthist = view->firstvalue;
-  double state[FR_NSTATE], next[FR_NSTATE], inc[3], frc[3];
+  double virgin[FR_NSTATE], state[FR_NSTATE], next[FR_NSTATE], inc[3], frc[3];
+  fr_initial_state(virgin);
+  const int onetype = atom->ntypes == 1;
 
   for (int ii = 0; ii < inum; ii++) {
     const int i = ilist[ii];
@@ -369,119 +387,94 @@ void FR_CLASS::compute(int eflag, int vflag)
     double *allhist = firsthist[i];
     const int *jlist = firstneigh[i];
     const int jnum = numneigh[i];
+    const double xi0 = x[i][0], xi1 = x[i][1], xi2 = x[i][2], ri = radius[i];
     for (int jj = 0; jj < jnum; jj++) {
       const int j = jlist[jj] & NEIGHMASK;
+      const double d0 = x[j][0] - xi0, d1 = x[j][1] - xi1, d2 = x[j][2] - xi2;
+      const double rsq = d0 * d0 + d1 * d1 + d2 * d2;
+      const double rj = radius[j], radsum = ri + rj;
+      if (rsq >= radsum * radsum) {    // not touching: a later contact starts afresh
+        touch[jj] = 0;
+        continue;
+      }
       double *h = allhist + static_cast<size_t>(FR_NHISTORY) * jj;
       const int swap = tag[i] > tag[j];
       const int a = swap ? j : i, b = swap ? i : j;
-      const double l[3] = {x[b][0] - x[a][0], x[b][1] - x[a][1], x[b][2] - x[a][2]};
-      const double rsq = l[0] * l[0] + l[1] * l[1] + l[2] * l[2];
-      const double ra = radius[a], rb = radius[b], radsum = ra + rb;
-      if (rsq >= radsum * radsum) {
-        if (touch[jj]) {
-          touch[jj] = 0;
-          for (int k = 0; k < FR_NHISTORY; k++) h[k] = 0.0;
-        }
-        continue;
-      }
-      const double dist = sqrt(rsq), inv = 1.0 / dist, gap = dist - radsum;
-      const double n[3] = {l[0] * inv, l[1] * inv, l[2] * inv};
-      double t1[3], t2[3];
-      fr_frame(n[0], n[1], n[2], axis, t1);
-      t2[0] = n[1] * t1[2] - n[2] * t1[1];
-      t2[1] = n[2] * t1[0] - n[0] * t1[2];
-      t2[2] = n[0] * t1[1] - n[1] * t1[0];
-      const double *p = params(type[a], type[b]);
-      double T1, T2, N;
+      const double sg = swap ? -1.0 : 1.0;    // l = x_b - x_a = sg (x_j - x_i)
+      const double dist = sqrt(rsq), gap = dist - radsum, inv = sg / dist;
+      const double n[3] = {d0 * inv, d1 * inv, d2 * inv};
       const int fresh = !touch[jj];
-      if (fresh) {
-        fr_initial_state(state);
-        inc[0] = 0.0;
-        inc[1] = 0.0;
+      double g[3];
+      const double *p = onetype ? params(1, 1) : params(type[a], type[b]);
+      if (!commit && !fresh) {
+        fr_last_force(h, p, gap, n, g);
+      } else {
+        const double ra = radius[a], rb = radius[b];
+        double t1[3], t2[3];
+        fr_frame(n[0], n[1], n[2], axis, t1);
+        t2[0] = n[1] * t1[2] - n[2] * t1[1];
+        t2[1] = n[2] * t1[0] - n[0] * t1[2];
+        t2[2] = n[0] * t1[1] - n[1] * t1[0];
+        for (int k = 0; k < FR_NSTATE; k++) state[k] = virgin[k];
+        inc[0] = inc[1] = 0.0;
         inc[2] = gap;
-        if (project) {    // gran/hooke/history: the first step of a contact slides already
+        if (commit && (project || !fresh)) {
+          // gran/hooke/history: the first step of a contact slides already
           const double u[3] = FR_RELATIVE_VELOCITY;
           inc[0] = dt * (u[0] * t1[0] + u[1] * t1[1] + u[2] * t1[2]);
           inc[1] = dt * (u[0] * t2[0] + u[1] * t2[1] + u[2] * t2[2]);
         }
-      } else {
-        const double *n0 = h + H_N0;
-        const double m[3] = {n0[0] + n[0], n0[1] + n[1], n0[2] + n[2]};
-        const double k = 1.0 / (1.0 + n0[0] * n[0] + n0[1] * n[1] + n0[2] * n[2]);
-        // the twist: an exact rotation by 2 atan(s), s = tan(theta/2) to O(theta^5)
-        double s = 0.25 * dt * ((omega[a][0] + omega[b][0]) * n[0]
-                                + (omega[a][1] + omega[b][1]) * n[1]
-                                + (omega[a][2] + omega[b][2]) * n[2]);
-        s += s * s * s / 3.0;
-        const double s2 = 1.0 / (1.0 + s * s);
-        const double ct = (1.0 - s * s) * s2, st = 2.0 * s * s2;
-        double ue[3], up[3];
-        if (project) {    // gran/hooke/history: projected on the new plane, no twist
-          const double ce = h[H_ET] * n[0] + h[H_ET + 1] * n[1] + h[H_ET + 2] * n[2];
-          const double cp = h[H_PT] * n[0] + h[H_PT + 1] * n[1] + h[H_PT + 2] * n[2];
-          for (int c = 0; c < 3; c++) {
-            ue[c] = h[H_ET + c] - ce * n[c];
-            up[c] = h[H_PT + c] - cp * n[c];
+        if (!fresh) {
+          double ue[3];
+          if (project) {    // gran/hooke/history: projected on the new plane, no twist
+            const double ce = h[H_ET] * n[0] + h[H_ET + 1] * n[1] + h[H_ET + 2] * n[2];
+            for (int c = 0; c < 3; c++) ue[c] = h[H_ET + c] - ce * n[c];
+          } else {
+            const double *n0 = h + H_N0;
+            const double m[3] = {n0[0] + n[0], n0[1] + n[1], n0[2] + n[2]};
+            const double k = 1.0 / (1.0 + n0[0] * n[0] + n0[1] * n[1] + n0[2] * n[2]);
+            // the twist: an exact rotation by 2 atan(s), s = tan(theta/2) to O(theta^5)
+            double s = 0.25 * dt * ((omega[a][0] + omega[b][0]) * n[0]
+                                    + (omega[a][1] + omega[b][1]) * n[1]
+                                    + (omega[a][2] + omega[b][2]) * n[2]);
+            s += s * s * s / 3.0;
+            const double s2 = 1.0 / (1.0 + s * s);
+            fr_turn(h + H_ET, m, k, n, (1.0 - s * s) * s2, 2.0 * s * s2, ue);
           }
-        } else {
-          fr_turn(h + H_ET, m, k, n, ct, st, ue);
-          fr_turn(h + H_PT, m, k, n, ct, st, up);
-        }
-        state[0] = ue[0] * t1[0] + ue[1] * t1[1] + ue[2] * t1[2];
-        state[1] = ue[0] * t2[0] + ue[1] * t2[1] + ue[2] * t2[2];
-        state[2] = h[H_EN];
-        state[3] = up[0] * t1[0] + up[1] * t1[1] + up[2] * t1[2];
-        state[4] = up[0] * t2[0] + up[1] * t2[1] + up[2] * t2[2];
-        state[5] = h[H_PN];
-        for (int q = 0; q < FR_NQ; q++) state[6 + q] = h[H_Q + q];
-        const double u[3] = FR_RELATIVE_VELOCITY;
-        inc[0] = dt * (u[0] * t1[0] + u[1] * t1[1] + u[2] * t1[2]);
-        inc[1] = dt * (u[0] * t2[0] + u[1] * t2[1] + u[2] * t2[2]);
-        inc[2] = gap - (h[H_EN] + h[H_PN]);
-      }
-      if (commit || fresh) {
-        if (!commit) {    // setup, a contact without history: its first force, not kept
-          inc[0] = inc[1] = 0.0;
-          inc[2] = gap;
-          fr_initial_state(state);
+          // the law's state: de_t in this frame, de_n = dp = 0 (the increment carries the
+          // whole normal displacement, less the plastic one; the law never reads dp)
+          state[0] = ue[0] * t1[0] + ue[1] * t1[1] + ue[2] * t1[2];
+          state[1] = ue[0] * t2[0] + ue[1] * t2[1] + ue[2] * t2[2];
+          for (int q = 0; q < FR_NQ; q++) state[6 + q] = h[H_Q + q];
+#if FR_NORMAL_SLIP
+          inc[2] = gap - h[H_PN];
+#endif
         }
         const int status = fr_update(p, state, inc, next, frc);
         if (status < 0)
           error->one(FLERR, "pair_style " FR_STYLE ": the return map failed at the contact of "
                             "atoms {} and {} (increment {} {} {})", tag[a], tag[b], inc[0],
                      inc[1], inc[2]);
-        T1 = frc[0];
-        T2 = frc[1];
-        N = frc[2];
+        const double T1 = frc[0], T2 = frc[1], N = frc[2];
+        for (int c = 0; c < 3; c++) g[c] = T1 * t1[c] + T2 * t2[c] - N * n[c];
         if (commit) {
           touch[jj] = 1;
           for (int c = 0; c < 3; c++) {
             h[H_ET + c] = next[0] * t1[c] + next[1] * t2[c];
-            h[H_PT + c] = next[3] * t1[c] + next[4] * t2[c];
             h[H_N0 + c] = n[c];
           }
-          h[H_EN] = next[2];
-          h[H_PN] = next[5];
-          h[H_F] = T1;
-          h[H_F + 1] = T2;
-          h[H_F + 2] = N;
-          h[H_DISS] += T1 * (next[3] - state[3]) + T2 * (next[4] - state[4])
-              - N * (next[5] - state[5]);
+          const double diss = T1 * next[3] + T2 * next[4] - N * next[5];
+          h[H_DISS] = fresh ? diss : h[H_DISS] + diss;
           h[H_STATUS] = status;
+#if FR_NORMAL_SLIP
+          h[H_PN] = fresh ? next[5] : h[H_PN] + next[5];
+#endif
           for (int q = 0; q < FR_NQ; q++) h[H_Q + q] = next[6 + q];
         }
-      } else {
-        T1 = h[H_F];
-        T2 = h[H_F + 1];
-        N = h[H_F + 2];
       }
-      const double g[3] = {T1 * t1[0] + T2 * t2[0] - N * n[0], T1 * t1[1] + T2 * t2[1] - N * n[1],
-                           T1 * t1[2] + T2 * t2[2] - N * n[2]};
       const double ng[3] = {n[1] * g[2] - n[2] * g[1], n[2] * g[0] - n[0] * g[2],
                             n[0] * g[1] - n[1] * g[0]};
-      const double sg = swap ? -1.0 : 1.0;    // the force on i is g if i = a, -g if i = b
-      const double fi[3] = {sg * g[0], sg * g[1], sg * g[2]};
-      const double ri = radius[i], rj = radius[j];
+      const double fi[3] = {sg * g[0], sg * g[1], sg * g[2]};    // g on a, -g on b
       f[i][0] += fi[0];
       f[i][1] += fi[1];
       f[i][2] += fi[2];
@@ -497,8 +490,7 @@ void FR_CLASS::compute(int eflag, int vflag)
         torque[j][2] += rj * ng[2];
       }
       if (evflag)
-        ev_tally_xyz(i, j, nlocal, newton_pair, 0.0, 0.0, fi[0], fi[1], fi[2], x[i][0] - x[j][0],
-                     x[i][1] - x[j][1], x[i][2] - x[j][2]);
+        ev_tally_xyz(i, j, nlocal, newton_pair, 0.0, 0.0, fi[0], fi[1], fi[2], -d0, -d1, -d2);
     }
   }
 }
@@ -524,12 +516,21 @@ double FR_CLASS::single(int i, int j, int, int, double rsq, double, double, doub
     if ((jlist[jj] & NEIGHMASK) != j) continue;
     if (!view->firstflag[i][jj]) return 0.0;
     const double *h = view->firstvalue[i] + static_cast<size_t>(FR_NHISTORY) * jj;
-    svector[0] = h[H_F + 2];
-    svector[1] = sqrt(h[H_F] * h[H_F] + h[H_F + 1] * h[H_F + 1]);
+    // N and |T| of the last step's force, from the elastic displacements
+    const double dist = sqrt(rsq);
+    double dn = dist - radsum;
+#if FR_NORMAL_SLIP
+    dn -= h[H_PN];
+#endif
+    const double *p = params(atom->type[i], atom->type[j]);
+    const double N = h[H_STATUS] == 2.0 ? 0.0 : -p[1] * dn;
+    const double kt = h[H_STATUS] == 2.0 ? 0.0 : p[0];
+    svector[0] = N;
+    svector[1] = kt * sqrt(h[H_ET] * h[H_ET] + h[H_ET + 1] * h[H_ET + 1] + h[H_ET + 2] * h[H_ET + 2]);
     svector[2] = h[H_STATUS] == 1.0 ? 1.0 : 0.0;
     svector[3] = h[H_DISS];
     for (int q = 0; q < FR_NQ; q++) svector[4 + q] = h[H_Q + q];
-    fforce = h[H_F + 2] / sqrt(rsq);
+    fforce = N / dist;
     return 0.0;
   }
   return 0.0;
