@@ -159,14 +159,12 @@ static inline void fr_last_force(const double *h, const double *p, double gap, c
   for (int c = 0; c < 3; c++) g[c] = kt * h[H_ET + c] - N * n[c];
 }
 
-/* Velocity of b's contact point relative to a's, v_b - v_a - (r_a w_a + r_b w_b) x n. */
+/* Velocity of b's contact point relative to a's, v_b - v_a - (r_a w_a + r_b w_b) x n, with
+   v_b - v_a = sg (v_j - v_i) and W = r_i w_i + r_j w_j (the same for either orientation). */
 #define FR_RELATIVE_VELOCITY                                                           \
-  {v[b][0] - v[a][0] - ((ra * omega[a][1] + rb * omega[b][1]) * n[2]                   \
-                        - (ra * omega[a][2] + rb * omega[b][2]) * n[1]),               \
-   v[b][1] - v[a][1] - ((ra * omega[a][2] + rb * omega[b][2]) * n[0]                   \
-                        - (ra * omega[a][0] + rb * omega[b][0]) * n[2]),               \
-   v[b][2] - v[a][2] - ((ra * omega[a][0] + rb * omega[b][0]) * n[1]                   \
-                        - (ra * omega[a][1] + rb * omega[b][1]) * n[0])}
+  {sg * (v[j][0] - v[i][0]) - (W[1] * n[2] - W[2] * n[1]),                             \
+   sg * (v[j][1] - v[i][1]) - (W[2] * n[0] - W[0] * n[2]),                             \
+   sg * (v[j][2] - v[i][2]) - (W[0] * n[1] - W[1] * n[0])}
 
 static inline void fr_frame(double nx, double ny, double nz, const double *axis, double *t1)
 {
@@ -399,17 +397,17 @@ void FR_CLASS::compute(int eflag, int vflag)
       }
       double *h = allhist + static_cast<size_t>(FR_NHISTORY) * jj;
       const int swap = tag[i] > tag[j];
-      const int a = swap ? j : i, b = swap ? i : j;
       const double sg = swap ? -1.0 : 1.0;    // l = x_b - x_a = sg (x_j - x_i)
       const double dist = sqrt(rsq), gap = dist - radsum, inv = sg / dist;
       const double n[3] = {d0 * inv, d1 * inv, d2 * inv};
       const int fresh = !touch[jj];
       double g[3];
-      const double *p = onetype ? params(1, 1) : params(type[a], type[b]);
+      const double *p = onetype ? params(1, 1) : params(type[i], type[j]);
       if (!commit && !fresh) {
         fr_last_force(h, p, gap, n, g);
       } else {
-        const double ra = radius[a], rb = radius[b];
+        const double W[3] = {ri * omega[i][0] + rj * omega[j][0], ri * omega[i][1] + rj * omega[j][1],
+                             ri * omega[i][2] + rj * omega[j][2]};
         double t1[3], t2[3];
         fr_frame(n[0], n[1], n[2], axis, t1);
         t2[0] = n[1] * t1[2] - n[2] * t1[1];
@@ -432,14 +430,15 @@ void FR_CLASS::compute(int eflag, int vflag)
           } else {
             const double *n0 = h + H_N0;
             const double m[3] = {n0[0] + n[0], n0[1] + n[1], n0[2] + n[2]};
-            const double k = 1.0 / (1.0 + n0[0] * n[0] + n0[1] * n[1] + n0[2] * n[2]);
+            const double c = 1.0 + n0[0] * n[0] + n0[1] * n[1] + n0[2] * n[2];
             // the twist: an exact rotation by 2 atan(s), s = tan(theta/2) to O(theta^5)
-            double s = 0.25 * dt * ((omega[a][0] + omega[b][0]) * n[0]
-                                    + (omega[a][1] + omega[b][1]) * n[1]
-                                    + (omega[a][2] + omega[b][2]) * n[2]);
-            s += s * s * s / 3.0;
-            const double s2 = 1.0 / (1.0 + s * s);
-            fr_turn(h + H_ET, m, k, n, (1.0 - s * s) * s2, 2.0 * s * s2, ue);
+            double s = 0.25 * dt * ((omega[i][0] + omega[j][0]) * n[0]
+                                    + (omega[i][1] + omega[j][1]) * n[1]
+                                    + (omega[i][2] + omega[j][2]) * n[2]);
+            s += s * s * s * (1.0 / 3.0);
+            const double ss = 1.0 + s * s, r = 1.0 / (c * ss);    // one division for both
+            const double s2 = c * r;
+            fr_turn(h + H_ET, m, ss * r, n, (1.0 - s * s) * s2, 2.0 * s * s2, ue);
           }
           // the law's state: de_t in this frame, de_n = dp = 0 (the increment carries the
           // whole normal displacement, less the plastic one; the law never reads dp)
@@ -453,7 +452,8 @@ void FR_CLASS::compute(int eflag, int vflag)
         const int status = fr_update(p, state, inc, next, frc);
         if (status < 0)
           error->one(FLERR, "pair_style " FR_STYLE ": the return map failed at the contact of "
-                            "atoms {} and {} (increment {} {} {})", tag[a], tag[b], inc[0],
+                            "atoms {} and {} (increment {} {} {})", swap ? tag[j] : tag[i],
+                     swap ? tag[i] : tag[j], inc[0],
                      inc[1], inc[2]);
         const double T1 = frc[0], T2 = frc[1], N = frc[2];
         for (int c = 0; c < 3; c++) g[c] = T1 * t1[c] + T2 * t2[c] - N * n[c];
