@@ -30,12 +30,15 @@ __all__ = ["write_lammps", "lammps_snippet", "lammps_readme", "plugin_file", "HI
 #: (atom of lower ID first), so the transfer to the other atom of the pair copies it.
 HISTORY = (
     ("de_t", "vector (3)", "elastic tangential displacement, global components"),
-    ("n_old", "vector (3)", "unit normal of the last step, from the lower ID to the higher"),
     ("dissipation", "scalar", "work dissipated by the contact since it formed"),
     ("status", "scalar", "last update: 0 stick, 1 slip, 2 open"),
 )
 #: Kept only by a law that slips normally (:func:`normal_slip`).
 HISTORY_NORMAL = ("dp_n", "scalar", "plastic normal displacement (positive opening: dilatancy)")
+#: Last, and only with ``history rotate`` (the default): the normal the history turns from.
+HISTORY_ROTATE = ("n_old", "vector (3)",
+                  "unit normal of the last step, from the lower ID to the higher (not kept "
+                  "with `history project`)")
 
 
 def normal_slip(spec) -> bool:
@@ -48,10 +51,11 @@ def normal_slip(spec) -> bool:
 
 
 def history(spec) -> tuple:
-    """The pair style's history for this law: (name, kind, meaning), the law's internal
-    variables last."""
+    """The pair style's history for this law (``history rotate``): (name, kind, meaning), the
+    law's internal variables before ``n_old``."""
     rows = HISTORY + ((HISTORY_NORMAL,) if normal_slip(spec) else ())
-    return rows + tuple((n, "scalar", "internal variable of the law") for n in spec.state_names)
+    rows += tuple((n, "scalar", "internal variable of the law") for n in spec.state_names)
+    return rows + (HISTORY_ROTATE,)
 
 
 def plugin_file(name: str) -> str:
@@ -114,8 +118,8 @@ static inline void fr_initial_state(double *state)
 def write_lammps(spec, target):
     """The texts of target ``lammps`` (in the order of its ``code`` names) and its layouts."""
     from ._ctarget import c_sources
-    from ._lammps_plugin import CMAKELISTS, PLUGIN_CPP
-    from ._lammps_sources import PAIR_CPP, PAIR_H
+    from ._lammps_plugin import CMAKELISTS, PAIR_H, PLUGIN_CPP
+    from ._lammps_sources import PAIR_CPP
     from ._targets import Entry, Written, _param_entries, _state_entries
     if spec.kn is None:
         raise FrictionRulesError("kn = None violates: target 'lammps' needs the normal penalty "
@@ -129,12 +133,16 @@ def write_lammps(spec, target):
     entries = [Entry("kn", "normal penalty stiffness", "force/length"),
                Entry("kt", "tangential (elastic-slip) stiffness", "force/length"),
                *_param_entries(spec)]
-    rows = []
-    for n, kind, meaning in history(spec)[:len(history(spec)) - spec.nq]:
+    rows, hist = [], history(spec)
+    first = len(hist) - 1 - spec.nq    # the law's internal variables: hist[first:-1]
+    for k, (n, kind, meaning) in enumerate(hist):
+        if first <= k < len(hist) - 1:
+            e = _state_entries(spec)[k - first]
+            rows.append(Entry(n, e.meaning + " (scalar)", e.unit))
+            continue
         parts = ("x", "y", "z") if kind.startswith("vector") else ("",)
         rows += [Entry(f"{n}[{c}]" if c else n, f"{meaning} ({kind.split()[0]})", "")
                  for c in parts]
-    rows += [Entry(e.name, e.meaning + " (scalar)", e.unit) for e in _state_entries(spec)]
     return Written(tuple(texts[n.format(name=spec.name)] for n in target.code), props,
                    tuple(entries), tuple(rows), not spec.law.traits.symmetric_tangent)
 
@@ -208,10 +216,11 @@ def lammps_readme(target, spec, written) -> str:
         "- normal `n = (x_b - x_a)/|x_b - x_a|`; frame `t1` = the unit projection of the "
         "reference axis on the contact plane (of the next global axis where the reference "
         "axis is normal to the contact), `t2 = n × t1`;",
-        "- the stored tangential displacements turn with the contact: by the rotation taking "
-        "the previous normal to `n`, then about `n` by `dt (ω_a + ω_b)·n / 2`;",
+        "- the stored elastic tangential displacement turns with the contact: by the rotation "
+        "taking the previous normal to `n`, then about `n` by `dt (ω_a + ω_b)·n / 2`;",
         "- increment `Δδt = dt Q_t (v_b − v_a − (r_a ω_a + r_b ω_b) × n)`, "
-        "`Δδn = gap − (de_n + dp_n)` (a new contact: `Δδt = 0`, `Δδn = gap`, the law's "
+        "`Δδn = gap − (de_n + dp_n)`, passed to the law as `de_n = 0` and the increment "
+        "`gap − dp_n` (the same trial) (a new contact: `Δδt = 0`, `Δδn = gap`, the law's "
         "initial internal variables);",
         "- force on `a`: `T1 t1 + T2 t2 − N n` (N > 0 in compression), on `b` its opposite; "
         "the moment on either atom its radius times `n × (T1 t1 + T2 t2 − N n)`;",
@@ -223,7 +232,7 @@ def lammps_readme(target, spec, written) -> str:
         "tangential increment of its first step.", "",
         "A failed return map (no convergence even after 2^10 substeps) stops LAMMPS "
         "(`error->one`) naming both atom IDs and the increment.", "",
-        f"## Per-contact history ({nhist} values)", "",
+        f"## Per-contact history ({nhist} values, {nhist - 3} with `history project`)", "",
         "Kept by LAMMPS's fix NEIGH_HISTORY (its ID is `NEIGH_HISTORY_FR0` for the first pair "
         "style instance), written to and read from restart files with the atoms. Every value "
         "is stored in the canonical orientation, so the pair style declares a non-default "

@@ -1,6 +1,6 @@
 """The pair style of target ``lammps``: the same text for every law.
 
-``pair_frictionrules.h`` and ``pair_frictionrules.cpp``: contact kinematics of the DEM engine,
+``pair_frictionrules.cpp`` (its header is in :mod:`._lammps_plugin`): contact kinematics of the DEM engine,
 the per-contact history in LAMMPS's fix NEIGH_HISTORY, restart, ``single()``. They see the law
 only through ``frictionrules_law.h`` (``FR_*``, written per law by :mod:`._lammps`): a new
 LAMMPS version changes the LAMMPS-facing texts (this module and :mod:`._lammps_plugin`), a new
@@ -12,59 +12,8 @@ style declares the few leading public members of the fix it reads (the layout is
 run time); built in a LAMMPS source tree (``CMakeLists.txt``) it includes LAMMPS's own header.
 """
 
-__all__ = ["PAIR_H", "PAIR_CPP"]
+__all__ = ["PAIR_CPP"]
 
-PAIR_H = r"""/* pair_frictionrules.h -- a LAMMPS pair style running one frictionrules law at every contact.
-   Written by frictionrules (MIT); it is compiled against LAMMPS (GPL-2.0) and the plugin built
-   from it is a work linked with LAMMPS. The same text for every law: the law comes in through
-   frictionrules_law.h (the FR_* interface, see README.md). */
-#ifndef FR_PAIR_FRICTIONRULES_H
-#define FR_PAIR_FRICTIONRULES_H
-
-#include "pair.h"
-
-#include <string>
-
-#include "frictionrules_law.h"
-
-namespace LAMMPS_NS {
-
-class FR_CLASS : public Pair {
- public:
-  FR_CLASS(class LAMMPS *);
-  ~FR_CLASS() override;
-  void compute(int, int) override;
-  void settings(int, char **) override;
-  void coeff(int, char **) override;
-  void init_style() override;
-  double init_one(int, int) override;
-  void write_restart(FILE *) override;
-  void read_restart(FILE *) override;
-  void write_restart_settings(FILE *) override;
-  void read_restart_settings(FILE *) override;
-  double single(int, int, int, int, double, double, double, double &) override;
-  void transfer_history(double *, double *, int, int) override;
-  double memory_usage() override;
-
- protected:
-  class Fix *fix_history;    // the fix NEIGH_HISTORY holding every contact's history
-  double axis[3];            // the frame's reference axis (unit)
-  int project;               // history kept as LAMMPS's gran/hooke/history does (keyword)
-  double *coeffs;            // FR_NPARAMS values (kt, kn, law parameters) per type pair
-  double maxrad;             // largest radius of any atom
-  int stride;                // ntypes + 1 when allocated
-  void allocate();
-  std::string history_id() const { return "NEIGH_HISTORY_FR" + std::to_string(instance_me); }
-  double *params(int itype, int jtype) const
-  {
-    return coeffs + FR_NPARAMS * (static_cast<size_t>(itype) * stride + jtype);
-  }
-};
-
-}    // namespace LAMMPS_NS
-
-#endif
-"""
 
 PAIR_CPP = r"""/* pair_frictionrules.cpp -- a LAMMPS pair style running one frictionrules law at every contact.
    Written by frictionrules (MIT); it is compiled against LAMMPS (GPL-2.0) and the plugin built
@@ -129,21 +78,28 @@ struct FrNeighHistoryView : public Fix {
 #define FR_HISTORY_FIX FrNeighHistoryView
 #endif
 
-/* The per-contact history (FR_NHISTORY doubles, README.md): only what the next step needs. The
+/* The per-contact history (nhistory() doubles, README.md): only what the next step needs. The
    plastic tangential displacement is not kept (the law does not read it: its increment gives
    the dissipation); the plastic normal displacement only where the law slips normally
    (FR_NORMAL_SLIP: its potential depends on N); the elastic normal displacement never (the
    overlap less the plastic one), nor the force: it is the elastic response (4.2) to the
-   elastic displacements, kt de_t - kn (gap - dp_n) n, zero where the contact opened. */
+   elastic displacements, kt de_t - kn (gap - dp_n) n, zero where the contact opened; the
+   last normal only where the history turns with the contact (not with history project). */
 enum {
   H_ET = 0,        // elastic tangential displacement, global vector (3)
-  H_N0 = 3,        // normal of the last step (3)
-  H_DISS = 6,      // dissipation accumulated by the contact
-  H_STATUS = 7,    // status of the last update: 0 stick, 1 slip, 2 open
-  H_PN = 8,        // plastic normal displacement (positive opening), if FR_NORMAL_SLIP
-  H_Q = 8 + FR_NORMAL_SLIP    // the law's internal variables (FR_NQ)
+  H_DISS = 3,      // dissipation accumulated by the contact
+  H_STATUS = 4,    // status of the last update: 0 stick, 1 slip, 2 open
+  H_PN = 5,        // plastic normal displacement (positive opening), if FR_NORMAL_SLIP
+  H_Q = 5 + FR_NORMAL_SLIP,            // the law's internal variables (FR_NQ)
+  H_N0 = 5 + FR_NORMAL_SLIP + FR_NQ    // normal of the last step (3), history rotate only
 };
-#define FR_NHISTORY (8 + FR_NORMAL_SLIP + FR_NQ)
+#define FR_NHISTORY_PROJECT (5 + FR_NORMAL_SLIP + FR_NQ)
+#define FR_NHISTORY_ROTATE (FR_NHISTORY_PROJECT + 3)
+
+int FR_CLASS::nhistory() const
+{
+  return project ? FR_NHISTORY_PROJECT : FR_NHISTORY_ROTATE;
+}
 
 /* The force on the atom of lower ID of a contact's last step (LAMMPS's setup and single()):
    the elastic response to its elastic displacements at the normal n of that step. */
@@ -264,12 +220,16 @@ void FR_CLASS::settings(int narg, char **arg)
       iarg += 4;
     } else if (strcmp(arg[iarg], "history") == 0) {
       if (iarg + 2 > narg) error->all(FLERR, "pair_style " FR_STYLE ": history rotate|project");
+      const int was = project;
       if (strcmp(arg[iarg + 1], "rotate") == 0)
         project = 0;
       else if (strcmp(arg[iarg + 1], "project") == 0)
         project = 1;
       else
         error->all(FLERR, "pair_style " FR_STYLE ": history rotate|project");
+      if (fix_history != nullptr && project != was)    // the history's length depends on it
+        error->all(FLERR, "pair_style " FR_STYLE ": history rotate|project cannot change "
+                          "once the pair style has run");
       iarg += 2;
     } else {
       error->all(FLERR, std::string("pair_style " FR_STYLE ": unknown keyword ") + arg[iarg]
@@ -326,7 +286,7 @@ void FR_CLASS::init_style()
   if (fix_history == nullptr) {
     const std::string id = history_id();
     Fix *fix = modify->get_fix_by_id(id);
-    const std::string args = id + " all NEIGH_HISTORY " + std::to_string(FR_NHISTORY);
+    const std::string args = id + " all NEIGH_HISTORY " + std::to_string(nhistory());
     if (fix == nullptr && modify->get_fix_by_id(id + "_DUMMY"))
       fix = modify->replace_fix(id + "_DUMMY", args, 1);
     else if (fix == nullptr)
@@ -378,6 +338,7 @@ void FR_CLASS::compute(int eflag, int vflag)
   double virgin[FR_NSTATE], state[FR_NSTATE], next[FR_NSTATE], inc[3], frc[3];
   fr_initial_state(virgin);
   const int onetype = atom->ntypes == 1;
+  const int stride = nhistory();
 
   for (int ii = 0; ii < inum; ii++) {
     const int i = ilist[ii];
@@ -395,7 +356,7 @@ void FR_CLASS::compute(int eflag, int vflag)
         touch[jj] = 0;
         continue;
       }
-      double *h = allhist + static_cast<size_t>(FR_NHISTORY) * jj;
+      double *h = allhist + static_cast<size_t>(stride) * jj;
       const int swap = tag[i] > tag[j];
       const double sg = swap ? -1.0 : 1.0;    // l = x_b - x_a = sg (x_j - x_i)
       const double dist = sqrt(rsq), gap = dist - radsum, inv = sg / dist;
@@ -461,7 +422,7 @@ void FR_CLASS::compute(int eflag, int vflag)
           touch[jj] = 1;
           for (int c = 0; c < 3; c++) {
             h[H_ET + c] = next[0] * t1[c] + next[1] * t2[c];
-            h[H_N0 + c] = n[c];
+            if (!project) h[H_N0 + c] = n[c];
           }
           const double diss = T1 * next[3] + T2 * next[4] - N * next[5];
           h[H_DISS] = fresh ? diss : h[H_DISS] + diss;
@@ -498,7 +459,8 @@ void FR_CLASS::compute(int eflag, int vflag)
 /* The history is kept in the canonical orientation: the other atom of the pair gets a copy. */
 void FR_CLASS::transfer_history(double *source, double *target, int, int)
 {
-  for (int k = 0; k < FR_NHISTORY; k++) target[k] = source[k];
+  const int nh = nhistory();
+  for (int k = 0; k < nh; k++) target[k] = source[k];
 }
 
 /* svector = N (> 0 in compression), |T|, 1 if the last update slid, accumulated dissipation,
@@ -515,7 +477,7 @@ double FR_CLASS::single(int i, int j, int, int, double rsq, double, double, doub
   for (int jj = 0; jj < jnum; jj++) {
     if ((jlist[jj] & NEIGHMASK) != j) continue;
     if (!view->firstflag[i][jj]) return 0.0;
-    const double *h = view->firstvalue[i] + static_cast<size_t>(FR_NHISTORY) * jj;
+    const double *h = view->firstvalue[i] + static_cast<size_t>(nhistory()) * jj;
     // N and |T| of the last step's force, from the elastic displacements
     const double dist = sqrt(rsq);
     double dn = dist - radsum;
@@ -569,7 +531,7 @@ void FR_CLASS::read_restart(FILE *fp)
 
 void FR_CLASS::write_restart_settings(FILE *fp)
 {
-  const int sizes[3] = {FR_NPARAMS, FR_NHISTORY, project};
+  const int sizes[3] = {FR_NPARAMS, nhistory(), project};
   fwrite(sizes, sizeof(int), 3, fp);
   fwrite(axis, sizeof(double), 3, fp);
 }
@@ -584,7 +546,7 @@ void FR_CLASS::read_restart_settings(FILE *fp)
   MPI_Bcast(sizes, 3, MPI_INT, 0, world);
   project = sizes[2];
   MPI_Bcast(axis, 3, MPI_DOUBLE, 0, world);
-  if (sizes[0] != FR_NPARAMS || sizes[1] != FR_NHISTORY)
+  if (sizes[0] != FR_NPARAMS || sizes[1] != nhistory())
     error->all(FLERR, "pair_style " FR_STYLE ": the restart file was written by another law");
 }
 
