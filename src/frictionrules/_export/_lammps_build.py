@@ -115,7 +115,7 @@ def build_plugin(out: Path, name: str) -> Path:
     (``-DLAMMPS_SMALLBIG``, the wheel's integer sizes). No ``-march=native``: the plugin runs
     on any x86-64 (or whatever the compiler targets by default), so it can be copied to other
     nodes; ``CFLAGS=-march=native CXXFLAGS=-march=native`` builds one for this machine's
-    processor only (about 10 % faster here). The library is not linked with ``liblammps.so``: LAMMPS resolves
+    processor only (10–17 % faster here). The library is not linked with ``liblammps.so``: LAMMPS resolves
     its symbols when it loads the plugin.
 
     Raises
