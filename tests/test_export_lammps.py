@@ -257,9 +257,12 @@ def test_files_without_build_name_the_plugin_the_build_writes(tmp_path):
     assert lines == [f"plugin load {so}", "pair_style frictionrules/hard axis 1.0 0.0 0.0",
                      f"pair_coeff * * {KN!r} {KT!r} 0.3 0.6 0.004", "comm_modify vel yes"]
     assert res.props_names == ("kn", "kt", "mu", "h", "kh")
-    assert res.nstatv == 17 and res.statev_names[-1] == "kappa"
+    # the history: de_t (3), dissipation, status, dp_n (the associated law is dilatant: its
+    # potential depends on N), kappa, then n_old (3; not with history project)
+    assert res.nstatv == 10 and res.statev_names[5:7] == ("dp_n", "kappa")
+    assert res.statev_names[-1] == "n_old[z]"
     law_h = (tmp_path / "x" / "frictionrules_law.h").read_text()
-    assert "#define FR_NQ 1" in law_h and '#define FR_STYLE "frictionrules/hard"' in law_h
+    assert "#define FR_NQ 1" in law_h and "#define FR_NORMAL_SLIP 1" in law_h and '#define FR_STYLE "frictionrules/hard"' in law_h
     # the LAMMPS-facing sources are the same text for every law
     other = fr.export(fr.Coulomb(0.3), "lammps", tmp_path / "y", kt=KT, kn=KN)
     for name in ("pair_frictionrules.h", "pair_frictionrules.cpp", "frictionrules_plugin.cpp"):

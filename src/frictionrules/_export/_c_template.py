@@ -5,6 +5,10 @@ line for line: elastic trial (4.2), separation, limit check, backward Euler solv
 method on the dimensionless residual with a backtracking line search, returns that end at the
 apex of a cone, the consistent tangent (the σ-block of the inverse Jacobian times E), and the
 substepping of :class:`~frictionrules.ContactModel` where Newton fails (halving).
+The structured return (:mod:`._c_structured`, ``@STRUCTURED@``) comes first: where the law's
+symbolic structure offers a radial return it answers without Newton's method, and hands the
+contact to the general return otherwise (compiled with ``-D<NAME>_GENERAL_RETURN_ONLY``, the
+general return takes every contact: the comparison of the tests).
 ``@NAME@`` is replaced by the function prefix, the other ``@...@`` by the numbers and codes of
 :mod:`frictionrules._returnspec` (one home for every return mapping). The enum constants (``NQ``, ``SIZE``, the
 offsets ``OFF_*``, ``CLIP``, ``HAS_KAPPA``, ``KAPPA``) and ``local_f``, ``local_first``, ``local_full`` come
@@ -260,21 +264,40 @@ static int apex_region(const double *sig_tr, const double *q, const double *p,
     return w[OFF_DG + 2] > 0.0 && sig_tr[2] * dv[0] * gt <= tt * dv[2] * w[OFF_DG + 2];
 }
 
+@STRUCTURED@
 /* The return of closed trial forces sig_tr (sig_tr[2] > 0) at the stiffnesses dv: ELASTIC
    (sig = sig_tr), PLASTIC (sig, q1, dlam and, when dsig is not NULL, dsigma/dsigma_trial
    row-major 3 x 3), APEX (a return that ends at the apex of a cone) or FAILED. */
+static int general_return(const double *sig_tr, const double *qn, const double *p,
+                          const double *dv, double *sig, double *q1, double *dlam, double *dsig);
+
 static int @NAME@_return(const double *sig_tr, const double *qn, const double *p,
                          const double *dv, double *sig, double *q1, double *dlam, double *dsig)
 {
-    double x[M], w[SIZE] = {0.0}, J[M * M], col[M];
-    int piv[M], a, c, j;
-    const double ntr = sqrt(sig_tr[0] * sig_tr[0] + sig_tr[1] * sig_tr[1]
-                            + sig_tr[2] * sig_tr[2]);
+    int a, j;
     for (j = 0; j < NQ; j++)
         q1[j] = qn[j];
     for (a = 0; a < 3; a++)
         sig[a] = sig_tr[a];
     *dlam = 0.0;
+#ifndef @NAME_UPPER@_GENERAL_RETURN_ONLY
+    a = structured_return(sig_tr, qn, p, dv[0], dv[2], sig, q1, dlam, dsig);
+    if (a != GENERAL)
+        return a;
+#else
+    (void)structured_return;
+#endif
+    return general_return(sig_tr, qn, p, dv, sig, q1, dlam, dsig);
+}
+
+/* The general return (Newton's method on the whole system), sig, q1 and dlam at the trial. */
+static int general_return(const double *sig_tr, const double *qn, const double *p,
+                          const double *dv, double *sig, double *q1, double *dlam, double *dsig)
+{
+    double x[M], w[SIZE] = {0.0}, J[M * M], col[M];
+    int piv[M], a, c, j;
+    const double ntr = sqrt(sig_tr[0] * sig_tr[0] + sig_tr[1] * sig_tr[1]
+                            + sig_tr[2] * sig_tr[2]);
     eval_law(sig_tr[0], sig_tr[1], sig_tr[2], qn, p, w, 0);
     if (w[0] <= 0.0)
         return ELASTIC;
@@ -389,7 +412,16 @@ int @NAME@_update(const double *params, const double *state_in, const double *in
     const long full = 1L << MAX_DEPTH;
     double cur[@NAME_UPPER@_NSTATE], next[@NAME_UPPER@_NSTATE], du[3];
     long pos = 0;
-    int depth = 0, kind = ELASTIC, prev = ELASTIC, k;
+    int depth = 0, kind, prev = ELASTIC, k;
+    /* the whole step at once, as the first pass of the substepping below does */
+    kind = step_once(params, state_in, increment, next, force, tangent);
+    if (kind != FAILED) {
+        for (k = 0; k < @NAME_UPPER@_NSTATE; k++)
+            state_out[k] = next[k];
+        return kind;
+    }
+    kind = ELASTIC;
+    depth = 1;
     for (k = 0; k < @NAME_UPPER@_NSTATE; k++)
         cur[k] = state_in[k];
     while (pos < full) {

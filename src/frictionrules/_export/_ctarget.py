@@ -61,6 +61,8 @@ def c_sources(spec) -> dict[str, str]:
     for key, value in placeholders(lambda v: repr(float(v))).items():
         body = body.replace(key, value)
     body = body.replace("@INITIAL@", initial)
+    from ._c_structured import structured_c
+    body = body.replace("@STRUCTURED@", structured_c(spec))
     c = ["/*", *head, " */", "#include <math.h>", "#include <stddef.h>", f'#include "{name}.h"', "",
          law_functions_c(spec), body.lstrip("\n")]
     return {f"{name}.h": "\n".join(h), f"{name}.c": "\n".join(c)}

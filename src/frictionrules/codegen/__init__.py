@@ -8,7 +8,7 @@ write that program in a target language; the compiled return mapping of
 in C99 and fixed-form Fortran 77.
 """
 
-from ._c import c_function, c_helpers
+from ._c import c_block, c_function, c_helpers, used_inputs
 from ._fortran import fixed_form, fortran_helpers, fortran_subroutine
 from ._program import LOCAL_FIELDS, Program, local_layout, local_program
 from ._python import parameter_temps, python_block, python_function
@@ -18,4 +18,4 @@ from ._structure import ReturnStructure, return_constants, return_structure
 __all__ = ["LOCAL_FIELDS", "Program", "local_layout", "local_program", "python_function",
            "parameter_temps", "c_function", "c_helpers", "fortran_subroutine", "fortran_helpers",
            "fixed_form", "ReturnStructure", "return_structure", "return_constants", "step_programs",
-           "python_block"]
+           "python_block", "c_block", "used_inputs"]

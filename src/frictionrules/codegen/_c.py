@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-__all__ = ["c_function", "c_helpers", "used_inputs"]
+__all__ = ["c_function", "c_helpers", "used_inputs", "c_block"]
 
 
 def guarded(expr, prefix: str):
@@ -67,3 +67,17 @@ def c_function(program, name: str, prefix: str) -> str:
     lines += [f"    w[{k}] = {printer.doprint(guarded(e, prefix))};" for k, e in program.outputs]
     lines.append("}")
     return "\n".join(lines) + "\n"
+
+
+def c_block(program, indent: str, prefix: str, declare: str = "const double") -> list[str]:
+    """Lines of C declaring a piece's temporaries and named outputs
+    (:func:`~frictionrules.codegen.step_programs`: ``name = expression``), each
+    ``declare name = ...;``, reciprocals and signs guarded as in :func:`c_function`; every
+    output is then marked used (a piece may compute more than a caller reads)."""
+    printer = _printer(prefix)
+    lines = [f"{indent}const double {s} = {printer.doprint(guarded(e, prefix))};"
+             for s, e in program.temps]
+    lines += [f"{indent}{declare} {n} = {printer.doprint(guarded(e, prefix))};"
+              for n, e in program.outputs]
+    lines += [f"{indent}(void){n};" for n, _ in program.outputs]
+    return lines
