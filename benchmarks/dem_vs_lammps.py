@@ -55,6 +55,7 @@ DAMPING = 0.2
 INERTIAL = 4e-4
 WARMUP = 50
 LMP = Path(sys.executable).parent / "lmp"
+MPIRUN = Path(sys.executable).parent / "mpirun"
 USER_LIMIT, USER_POTENTIAL = "sqrt(T1**2 + T2**2) - mu*N", "sqrt(T1**2 + T2**2)"
 
 
@@ -104,7 +105,9 @@ def _engine(path: Path, law: str, steps: int) -> dict:
     st, _ = dyn.run(st, ctl, 1e9, steps)
     wall, cpu = time.perf_counter() - w0, time.process_time() - c0
     n = int(st.meters[0]["steps"]) - s0
-    return {"us_step": wall / n * 1e6, "cpu_us_step": cpu / n * 1e6, "contacts": int(st.meters[0]["closed"]),
+    import resource
+    return {"us_step": wall / n * 1e6, "cpu_us_step": cpu / n * 1e6,
+            "memory_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, "contacts": int(st.meters[0]["closed"]),
             "pairs": len(st.pairs.i), "grains": a.size, "dt": dyn.params().dt}
 
 
@@ -152,25 +155,29 @@ run {steps}
     return tmp / "in.shear"
 
 
-def _lammps(path: Path, steps: int) -> dict:
+def _lammps(path: Path, steps: int, ranks: int) -> dict:
     with tempfile.TemporaryDirectory() as t:
         script = _lammps_input(path, Path(t), steps)
         env = dict(os.environ, OMP_NUM_THREADS="1")
-        out = subprocess.run([str(LMP), "-in", str(script), "-log", "none", "-echo", "none"],
-                             env=env, capture_output=True, text=True, check=True).stdout
-    loops = re.findall(r"Loop time of ([0-9.eE+-]+) on 1 procs for (\d+) steps with (\d+) atoms", out)
+        cmd = [str(LMP), "-in", str(script), "-log", "none", "-echo", "none"]
+        if ranks > 1:
+            cmd = [str(MPIRUN), "-np", str(ranks)] + cmd
+        out = subprocess.run(cmd, env=env, capture_output=True, text=True, check=True).stdout
+    loops = re.findall(rf"Loop time of ([0-9.eE+-]+) on {ranks} procs for (\d+) steps with (\d+) atoms",
+                       out)
     wall, n, atoms = float(loops[-1][0]), int(loops[-1][1]), int(loops[-1][2])
-    share = re.findall(r"^([0-9.]+)% CPU use", out, re.M)
+    share = re.findall(r"^([0-9.]+)% CPU use", out, re.M)  # per rank
     pair = re.findall(r"^Pair\s*\|\s*[0-9.eE+-]+\s*\|\s*([0-9.eE+-]+)", out, re.M)
     rows = re.findall(rf"^\s*{WARMUP + steps}\s+([0-9.eE+-]+)\s*$", out, re.M)
-    return {"us_step": wall / n * 1e6, "cpu_us_step": wall * float(share[-1]) / 100 / n * 1e6,
+    return {"us_step": wall / n * 1e6, "cpu_us_step": ranks * wall * float(share[-1]) / 100 / n * 1e6,
             "contacts": int(round(float(rows[-1]) / 2)),
             "grains": atoms, "pair_us_step": float(pair[-1]) / n * 1e6 if pair else float("nan")}
 
 
-def _child(kind: str, path: Path, steps: int) -> dict:
-    cmd = [sys.executable, __file__, "--child", kind, "--sample", str(path), "--steps", str(steps)]
-    env = dict(os.environ, NUMBA_NUM_THREADS="1", OMP_NUM_THREADS="1")
+def _child(kind: str, path: Path, steps: int, threads: int = 1) -> dict:
+    cmd = [sys.executable, __file__, "--child", kind, "--sample", str(path), "--steps", str(steps),
+           "--threads", str(threads)]
+    env = dict(os.environ, NUMBA_NUM_THREADS=str(threads), OMP_NUM_THREADS="1")
     proc = subprocess.run(cmd, env=env, capture_output=True, text=True)
     if proc.returncode:
         raise RuntimeError(f"{kind} failed:\n{proc.stderr[-3000:]}")
@@ -186,6 +193,8 @@ def main() -> None:
     parser.add_argument("--tiles", type=int, default=3)
     parser.add_argument("--steps", type=int, default=300)
     parser.add_argument("--rounds", type=int, default=5)
+    parser.add_argument("--threads", type=int, default=1,
+                        help="engine threads and LAMMPS MPI ranks (1: one core each)")
     parser.add_argument("--runs", default="coulomb,user,lammps",
                         help="which of coulomb, user, lammps")
     parser.add_argument("--name", default="dem_vs_lammps", help="results/<name>.md")
@@ -198,8 +207,11 @@ def main() -> None:
             _prepare(args.tiles, path)
             print("{}")
         elif args.child == "lammps":
-            print(json.dumps(_lammps(path, args.steps)))
+            print(json.dumps(_lammps(path, args.steps, args.threads)))
         else:
+            if args.threads > 1:
+                from frictionrules._threads import prefer_openmp
+                prefer_openmp()
             print(json.dumps(_engine(path, args.child, args.steps)))
         return
     wanted = args.runs.split(",")
@@ -217,7 +229,7 @@ def main() -> None:
     raw = {kind: [] for _, kind in runs}
     for r in range(args.rounds):
         for label, kind in runs:
-            out = _child(kind, sample, args.steps)
+            out = _child(kind, sample, args.steps, args.threads)
             raw[kind].append(out)
             print(f"round {r + 1} {label}: {out['us_step']:.0f} µs/step, {out['contacts']} contacts",
                   flush=True)
@@ -234,7 +246,8 @@ def main() -> None:
                      f"{statistics.median(per):.0f} ({min(per):.0f}–{max(per):.0f})",
                      f"{statistics.median(t) / ref:.2f}" if ref else "–"])
     (RESULTS / f"{args.name}.json").write_text(json.dumps(raw, indent=1))
-    write_table(args.name, "The engine beside LAMMPS gran/hooke/history, one core each",
+    cores = "one core each" if args.threads == 1 else f"{args.threads} threads / MPI ranks each"
+    write_table(args.name, f"The engine beside LAMMPS gran/hooke/history, {cores}",
                 ["run", "grains", "contacts", "wall µs/step: median (range)",
                  "CPU µs/step: median (range)",
                  "ns/contact: median (range)", "÷ LAMMPS"], rows,
