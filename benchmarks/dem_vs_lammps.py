@@ -1,28 +1,32 @@
 """Benchmark: the dynamic engine's cost per step and per contact beside LAMMPS's
-``gran/hooke/history``, one core each.
+``gran/hooke/history``, on one core each and on two.
 
-One command: ``python benchmarks/dem_vs_lammps.py [--tiles 3] [--steps 300] [--rounds 5]``.
+One command: ``python benchmarks/dem_vs_lammps.py [--tiles 3,7] [--threads 1,2] [--steps 300]
+[--rounds 5]``.
 
 The sample: the 400-sphere packing of ``assembly_dem_scaling.py`` (``Assembly.random``, seed 1,
-radii 1 ± 20 %, density 1) tiled k × k × k (k = 3: 10,800 spheres), squeezed frictionless
-towards p = 1 for 2000 steps by the engine. Its positions, radii and cell are then the start of
-every run of both codes: contacts kn = kt = 1e4, Coulomb μ = 0.3, no viscous damping, at rest,
-no tangential history; the same time step ``0.25 √(m_min / kn)``, the same skin (0.1 mean
-radius, rebuilt when a grain has moved half of it); the cell deformed at the same isochoric
-axisymmetric rate (``ε̇_zz = -ε̇``, ``ε̇_xx = ε̇_yy = ε̇/2``, ε̇ of the inertial number 4e-4,
-true strain rates: LAMMPS ``fix deform ... trate``). Three runs, each in a process of its own
-on one core (``NUMBA_NUM_THREADS=1``; LAMMPS serial, one MPI rank, ``OMP_NUM_THREADS=1``):
+radii 1 ± 20 %, density 1) tiled k × k × k (k = 3: 10,800 spheres; k = 7: 137,200), squeezed
+frictionless towards p = 1 for 2000 steps by the engine. Its positions, radii and cell are then
+the start of every run of both codes: contacts kn = kt = 1e4, Coulomb μ = 0.3, no viscous
+damping, at rest, no tangential history; the same time step ``0.25 √(m_min / kn)``, the same
+skin (0.1 mean radius, rebuilt when a grain has moved half of it); the cell deformed at the
+same isochoric axisymmetric rate (``ε̇_zz = -ε̇``, ``ε̇_xx = ε̇_yy = ε̇/2``, ε̇ of the inertial
+number 4e-4, true strain rates: LAMMPS ``fix deform ... trate``). Three runs, each in a process
+of its own on ``--threads`` cores (``NUMBA_NUM_THREADS``; LAMMPS as that many MPI ranks by the
+venv's ``mpirun``, ``OMP_NUM_THREADS=1``):
 
 * ``engine Coulomb`` — the engine with ``ContactModel(Coulomb(0.3), kn=1e4, kt=1e4)``;
 * ``engine UserLaw`` — the same with ``UserLaw("sqrt(T1**2 + T2**2) - mu*N",
   "sqrt(T1**2 + T2**2)", {"mu": 0.3})``, Coulomb written by a user (its generated kernel);
 * ``LAMMPS`` — ``pair_style gran/hooke/history 1e4 1e4 0 0 0.3 0``, ``fix nve/sphere``.
 
-Each run: 50 steps of warm-up, then ``--steps`` timed steps (wall clock; LAMMPS's own "Loop
-time", and its CPU time from LAMMPS's "% CPU use"). The runs are interleaved, A B C A B C ..., ``--rounds`` times: the machine's other load
-falls on all three alike. The table has the median and the range over the rounds, per step and
-per contact (wall; the contacts carrying a force at the end of the run) →
-``results/dem_vs_lammps.md``; the raw numbers → ``results/dem_vs_lammps.json``.
+Each run: 50 steps of warm-up, then ``--steps`` timed steps (in proportion fewer on larger
+samples): wall clock and CPU time (LAMMPS's own "Loop time" and its "% CPU use"). The runs are
+interleaved, A B C A B C ..., ``--rounds`` times per sample and number of cores: the machine's
+other load falls on all three alike. The table has the median and the range over the rounds,
+per step and per contact (the contacts carrying a force at the end of the run), and the
+engine's peak memory → ``results/dem_vs_lammps.md``; the raw numbers →
+``results/dem_vs_lammps.json``.
 
 The engine's Cundall damping (0.2) has no counterpart in ``gran/hooke/history``; it costs the
 grain pass a few operations per grain. LAMMPS remaps positions affinely (``remap x``) and its
@@ -107,7 +111,8 @@ def _engine(path: Path, law: str, steps: int) -> dict:
     n = int(st.meters[0]["steps"]) - s0
     import resource
     return {"us_step": wall / n * 1e6, "cpu_us_step": cpu / n * 1e6,
-            "memory_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, "contacts": int(st.meters[0]["closed"]),
+            "memory_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
+            "contacts": int(st.meters[0]["closed"]),
             "pairs": len(st.pairs.i), "grains": a.size, "dt": dyn.params().dt}
 
 
@@ -163,13 +168,14 @@ def _lammps(path: Path, steps: int, ranks: int) -> dict:
         if ranks > 1:
             cmd = [str(MPIRUN), "-np", str(ranks)] + cmd
         out = subprocess.run(cmd, env=env, capture_output=True, text=True, check=True).stdout
-    loops = re.findall(rf"Loop time of ([0-9.eE+-]+) on {ranks} procs for (\d+) steps with (\d+) atoms",
-                       out)
+    loops = re.findall(rf"Loop time of ([0-9.eE+-]+) on {ranks} procs for (\d+) steps "
+                       r"with (\d+) atoms", out)
     wall, n, atoms = float(loops[-1][0]), int(loops[-1][1]), int(loops[-1][2])
     share = re.findall(r"^([0-9.]+)% CPU use", out, re.M)  # per rank
     pair = re.findall(r"^Pair\s*\|\s*[0-9.eE+-]+\s*\|\s*([0-9.eE+-]+)", out, re.M)
     rows = re.findall(rf"^\s*{WARMUP + steps}\s+([0-9.eE+-]+)\s*$", out, re.M)
-    return {"us_step": wall / n * 1e6, "cpu_us_step": ranks * wall * float(share[-1]) / 100 / n * 1e6,
+    return {"us_step": wall / n * 1e6,
+            "cpu_us_step": ranks * wall * float(share[-1]) / 100 / n * 1e6,
             "contacts": int(round(float(rows[-1]) / 2)),
             "grains": atoms, "pair_us_step": float(pair[-1]) / n * 1e6 if pair else float("nan")}
 
@@ -188,12 +194,30 @@ RUNS = (("engine Coulomb", "coulomb"), ("engine UserLaw", "user"),
         ("LAMMPS gran/hooke/history", "lammps"))
 
 
+def _sample_file(tiles: int) -> Path:
+    store = RESULTS / "dem_vs_lammps"
+    store.mkdir(parents=True, exist_ok=True)
+    sample = store / f"sample_k{tiles}.npz"
+    if not sample.exists():
+        subprocess.run([sys.executable, __file__, "--child", "prepare", "--tiles", str(tiles),
+                        "--sample", str(sample)], check=True,
+                       env=dict(os.environ, NUMBA_NUM_THREADS="1"))
+    return sample
+
+
+def _steps(steps: int, grains: int) -> int:
+    """The timed steps of a sample: ``--steps`` for 10,800 grains, fewer for larger ones."""
+    return max(40, round(steps * 10800 / grains))
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--tiles", type=int, default=3)
-    parser.add_argument("--steps", type=int, default=300)
+    parser.add_argument("--tiles", default="3,7", help="k of the samples (400 k³ grains)")
+    parser.add_argument("--steps", type=int, default=300,
+                        help="timed steps at 10,800 grains (in proportion fewer, at least 40, "
+                             "for larger samples)")
     parser.add_argument("--rounds", type=int, default=5)
-    parser.add_argument("--threads", type=int, default=1,
+    parser.add_argument("--threads", default="1,2",
                         help="engine threads and LAMMPS MPI ranks (1: one core each)")
     parser.add_argument("--runs", default="coulomb,user,lammps",
                         help="which of coulomb, user, lammps")
@@ -203,57 +227,62 @@ def main() -> None:
     args = parser.parse_args()
     if args.child:
         path = Path(args.sample)
+        threads = int(args.threads)
         if args.child == "prepare":
-            _prepare(args.tiles, path)
+            _prepare(int(args.tiles), path)
             print("{}")
         elif args.child == "lammps":
-            print(json.dumps(_lammps(path, args.steps, args.threads)))
+            print(json.dumps(_lammps(path, args.steps, threads)))
         else:
-            if args.threads > 1:
+            if threads > 1:
                 from frictionrules._threads import prefer_openmp
                 prefer_openmp()
             print(json.dumps(_engine(path, args.child, args.steps)))
         return
     wanted = args.runs.split(",")
     runs = [(label, kind) for label, kind in RUNS if kind in wanted]
-    store = RESULTS / "dem_vs_lammps"
-    store.mkdir(parents=True, exist_ok=True)
-    sample = store / f"sample_k{args.tiles}.npz"
-    if not sample.exists():
-        subprocess.run([sys.executable, __file__, "--child", "prepare", "--tiles", str(args.tiles),
-                        "--sample", str(sample)], check=True,
-                       env=dict(os.environ, NUMBA_NUM_THREADS="1"))
-    for _, kind in runs:  # compile (and cache) each engine's kernels before timing anything
-        if kind != "lammps":
-            _child(kind, sample, 5)
-    raw = {kind: [] for _, kind in runs}
-    for r in range(args.rounds):
-        for label, kind in runs:
-            out = _child(kind, sample, args.steps, args.threads)
-            raw[kind].append(out)
-            print(f"round {r + 1} {label}: {out['us_step']:.0f} µs/step, {out['contacts']} contacts",
-                  flush=True)
-    ref = statistics.median(o["us_step"] for o in raw["lammps"]) if "lammps" in raw else None
-    rows = []
-    for label, kind in runs:
-        t = [o["us_step"] for o in raw[kind]]
-        c = statistics.median(o["contacts"] for o in raw[kind])
-        per = [o["us_step"] * 1e3 / o["contacts"] for o in raw[kind]]
-        cpu = [o["cpu_us_step"] for o in raw[kind]]
-        rows.append([label, raw[kind][0]["grains"], f"{c:.0f}",
-                     f"{statistics.median(t):.0f} ({min(t):.0f}–{max(t):.0f})",
-                     f"{statistics.median(cpu):.0f} ({min(cpu):.0f}–{max(cpu):.0f})",
-                     f"{statistics.median(per):.0f} ({min(per):.0f}–{max(per):.0f})",
-                     f"{statistics.median(t) / ref:.2f}" if ref else "–"])
-    (RESULTS / f"{args.name}.json").write_text(json.dumps(raw, indent=1))
-    cores = "one core each" if args.threads == 1 else f"{args.threads} threads / MPI ranks each"
-    write_table(args.name, f"The engine beside LAMMPS gran/hooke/history, {cores}",
-                ["run", "grains", "contacts", "wall µs/step: median (range)",
-                 "CPU µs/step: median (range)",
-                 "ns/contact: median (range)", "÷ LAMMPS"], rows,
-                notes=f"{args.rounds} rounds interleaved, {args.steps} timed steps each after "
-                      f"{WARMUP} of warm-up; wall clock on a shared 2-core machine (load "
-                      f"{os.getloadavg()[0]:.1f} at the end).")
+    rows, raw_all = [], {}
+    for tiles in (int(t) for t in args.tiles.split(",")):
+        sample = _sample_file(tiles)
+        steps = _steps(args.steps, 400 * tiles**3)
+        for _, kind in runs:  # compile (and cache) each engine's kernels before timing anything
+            if kind != "lammps":
+                _child(kind, sample, 5)
+        for threads in (int(t) for t in args.threads.split(",")):
+            raw = {kind: [] for _, kind in runs}
+            for r in range(args.rounds):
+                for label, kind in runs:
+                    out = _child(kind, sample, steps, threads)
+                    raw[kind].append(out)
+                    print(f"k={tiles} threads={threads} round {r + 1} {label}: "
+                          f"{out['us_step']:.0f} µs/step, {out['contacts']} contacts", flush=True)
+            raw_all[f"k{tiles}_threads{threads}"] = raw
+            ref = (statistics.median(o["us_step"] for o in raw["lammps"]) if "lammps" in raw
+                   else None)
+            for label, kind in runs:
+                t = [o["us_step"] for o in raw[kind]]
+                c = statistics.median(o["contacts"] for o in raw[kind])
+                per = [o["us_step"] * 1e3 / o["contacts"] for o in raw[kind]]
+                cpu = [o["cpu_us_step"] for o in raw[kind]]
+                mem = max(o.get("memory_mb", float("nan")) for o in raw[kind])
+                rows.append([label, raw[kind][0]["grains"], threads, f"{c:.0f}", steps,
+                             f"{statistics.median(t):.0f} ({min(t):.0f}–{max(t):.0f})",
+                             f"{statistics.median(cpu):.0f} ({min(cpu):.0f}–{max(cpu):.0f})",
+                             f"{statistics.median(per):.0f} ({min(per):.0f}–{max(per):.0f})",
+                             f"{statistics.median(t) / ref:.2f}" if ref else "–",
+                             "–" if kind == "lammps" else f"{mem:.0f}"])
+            (RESULTS / f"{args.name}.json").write_text(json.dumps(raw_all, indent=1))
+    write_table(args.name, "The engine beside LAMMPS gran/hooke/history",
+                ["run", "grains", "cores", "contacts", "timed steps",
+                 "wall µs/step: median (range)",
+                 "CPU µs/step: median (range)", "wall ns/contact: median (range)",
+                 "÷ LAMMPS (wall)", "peak memory MB"], rows,
+                notes=f"{args.rounds} rounds interleaved per sample and number of cores, "
+                      f"{WARMUP} steps of warm-up before the timed ones; cores: the engine's "
+                      "threads (OpenMP layer) or LAMMPS's MPI ranks. Wall clock on a shared "
+                      f"2-core machine (load {os.getloadavg()[0]:.1f} at the end): other "
+                      "processes held the cores, so CPU time is the steadier figure. Peak "
+                      "memory: the engine's whole process (Python, NumPy, Numba included).")
 
 
 if __name__ == "__main__":
