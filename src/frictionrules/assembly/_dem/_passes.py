@@ -45,7 +45,10 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from llvmlite import ir
+from numba import njit, types
+from numba.core import cgutils
+from numba.extending import intrinsic
 
 from ...contact import contact_update
 from ...contact.layout import LAW_KN, LAW_KT, RES_DISSIPATION, RES_FORCE, RES_SLIP
@@ -63,6 +66,12 @@ _FMA = {"contract"}
 
 #: Substeps of a contact update whose Newton iteration fails: up to 2**MAX_DEPTH.
 MAX_DEPTH = 10
+#: The contact pass asks the cache for the grain ``j`` of the pair this many pairs ahead (its
+#: position, velocity and spin: a pair's second grain is anywhere in the grain arrays, and one
+#: contact's work is too long for the processor to reach the next one's loads by itself).
+#: 10,800 spheres, the least of 600 passes: 2.93 -> 2.72 ms (8 ahead; 16 the same, 4: 2.78 ->
+#: 2.72); 137,200 spheres: 77 -> 71 ms.
+AHEAD = 8
 
 #: Columns of a contact chunk's partial sums: the virial Σ f⊗l (9, row-major), the laws'
 #: dissipation, Σ|g| over force-carrying contacts, their count, the sliding ones, the largest
@@ -74,6 +83,28 @@ P_SIZE = 21
 #: non-affine displacement since the neighbour build.
 G_FORCE, G_KINETIC, G_DAMPING, G_SHIFT = 0, 1, 2, 3
 G_SIZE = 4
+
+
+@intrinsic
+def _prefetch(typingctx, arr, row):
+    """Ask the cache for row ``row`` of the 2-d array ``arr`` (LLVM's ``prefetch``, for reading,
+    to every level): no effect on any value."""
+    sig = types.void(arr, row)
+
+    def codegen(context, builder, signature, args):
+        aryty = signature.args[0]
+        ary = context.make_array(aryty)(context, builder, args[0])
+        zero = ir.Constant(ir.IntType(64), 0)
+        ptr = cgutils.get_item_pointer(context, builder, aryty, ary, [args[1], zero])
+        byte, i32 = ir.IntType(8).as_pointer(), ir.IntType(32)
+        fn = cgutils.get_or_insert_function(
+            builder.module, ir.FunctionType(ir.VoidType(), [byte, i32, i32, i32]),
+            "llvm.prefetch.p0i8")
+        builder.call(fn, [builder.bitcast(ptr, byte), ir.Constant(i32, 0), ir.Constant(i32, 3),
+                          ir.Constant(i32, 1)])
+        return context.get_dummy_value()
+
+    return sig, codegen
 
 
 @njit(inline="always", error_model="numpy", fastmath=_FMA)
@@ -162,6 +193,11 @@ def contact_range(lo, hi, fn, row, virgin, ws, lists, grains, cell, pairs, param
     diss = fsum = closed = sliding = over = 0.0
     bad = -1
     for k in range(lo, hi):
+        if k + AHEAD < hi:
+            ahead = PJ[order[k + AHEAD]]
+            _prefetch(x, ahead)
+            _prefetch(v, ahead)
+            _prefetch(w, ahead)
         c = order[k]
         i, j = PI[c], PJ[c]
         k0, k1, k2 = PK[c, 0], PK[c, 1], PK[c, 2]
