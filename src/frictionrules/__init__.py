@@ -60,6 +60,7 @@ from .configuration import (
 # grain assemblies: many grains, a law at every contact (§5, (4.12))
 from .assembly import (Assembly, ContactSnapshot, SampleState, TriaxialResult, load_cell, triaxial,
                        write_vtk)
+from .assembly import LammpsFiles, read_lammps_triaxial, write_lammps_triaxial
 
 __all__ = [
     "FrictionRulesError",
