@@ -20,7 +20,7 @@ from ..errors import FrictionRulesError, check_scalar
 from ._contacts import ContactSet, branches, build, embed, skin
 from ._consolidation import consolidation_of
 from ._geometry import Assembly
-from ._results import ContactSnapshot, SampleState, TriaxialResult
+from ._results import SampleState, TriaxialResult, snapshot
 from ._solver import CELLS, components, move, solve_increment, stress_of, triaxial_free
 
 __all__ = ["Control", "triaxial", "load_cell", "initial_state", "run", "KINDS", "METHODS", "ENGINES"]
@@ -127,17 +127,6 @@ def _with_force(contacts: ContactSet, moved: ContactSet, out) -> ContactSet:
         if o is not None:
             force[c], status[c] = out.force[o], out.status[o]
     return dataclasses.replace(contacts, force=force, status=status)
-
-
-def snapshot(contacts: ContactSet) -> ContactSnapshot:
-    force, status = contacts.force, contacts.status
-    if force is None:
-        force = np.zeros((contacts.size, 3))
-        for g, model in enumerate(contacts.models):
-            force[contacts.members(g)] = model.force(contacts.states[g])
-        status = np.where(force[:, 2] > 0, 0, 2)
-    return ContactSnapshot(np.stack((contacts.i, contacts.j), axis=1), contacts.shift, contacts.frames,
-                           force, contacts.per_contact("plastic"), status, contacts.states, contacts.group)
 
 
 def run(assembly: Assembly, state: SampleState, controls, *, rtol: float = 1e-10, max_cuts: int = 8,

@@ -3,8 +3,9 @@ LAMMPS's contacts.
 
 Built in: ``pair_style gran/hooke/history kn kt 0 0 μ 0`` (GRANULAR: linear normal and
 tangential springs, Coulomb's cone, no viscous damping), for a law whose cone (capability
-``"cone"``, no internal variables) is circular without dilatancy: Coulomb's (1.4), (1.5); the frictionless stages use it with μ = 0 whatever the law (its tangential history stays
-zero: the laws start from virgin histories). It offers no sliding flag and no dissipation to a
+``"cone"``, no internal variables) is circular without dilatancy: Coulomb's (1.4), (1.5); the frictionless stages use it with
+μ = 0 whatever the law (its tangential history stays zero: the laws start from virgin
+histories). It offers no sliding flag and no dissipation to a
 compute: the result's sliding fraction is NaN, as is its dissipation.
 """
 
@@ -63,6 +64,7 @@ def pair_lines(assembly) -> PairLines:
     if mu is not None:
         return PairLines(frictionless, tuple(builtin_lines(model.kn, model.kt, mu)), False,
                          "gran/hooke/history (LAMMPS's linear spring-Coulomb)")
-    raise FrictionRulesError(f"law = {law!r} violates: Coulomb's cone (non-dilatant) for engine = 'lammps' (the "
+    raise FrictionRulesError(f"law = {law!r} violates: Coulomb's cone (non-dilatant) for "
+                             "engine = 'lammps' (the "
                              "built-in gran/hooke/history); other laws need the exported pair "
                              "style (export(law, 'lammps', ...))")

@@ -23,7 +23,7 @@ import numpy as np
 
 from ...errors import FrictionRulesError, check_scalar
 from .._consolidation import consolidation_of
-from .._results import SampleState, TriaxialResult
+from .._results import SampleState, TriaxialResult, snapshot
 from ._pair import pair_lines
 from ._script import POSITIONS, RECORD_COLUMNS, RECORDS, STAGES
 
@@ -297,7 +297,6 @@ def read_lammps_triaxial(assembly, folder, *, ended: str = "completed",
     """
     from .._contacts import build
     from .._dem._protocol import peak_of
-    from .._loading import snapshot
     folder = Path(folder)
     opts = json.loads((folder / OPTIONS).read_text())
     rec = _records(folder)
@@ -353,7 +352,6 @@ def read_lammps_triaxial(assembly, folder, *, ended: str = "completed",
 def _fill(snaps, assembly):
     """Records without centres hold the last record's snapshot emptied of contacts."""
     from .._contacts import build
-    from .._loading import snapshot
     last = snaps[-1] if snaps[-1] is not None else snapshot(build(
         assembly, assembly.positions, assembly.cell, check_overlap=False))
     keep = np.zeros(last.size, bool)

@@ -1,0 +1,317 @@
+"""Benchmark: the same triaxial test in our engine and in LAMMPS (``engine="lammps"``).
+
+One command: ``python benchmarks/assembly_lammps.py [--seeds 1,2,3] [--mu 0.3,0.5]
+[--laws coulomb,dilatant] [--strain 0.25] [--cost-grains 10000] [--scale-grains 100000]
+[--skip-stats] [--skip-cost] [--skip-scale]``.
+
+* **Statistics** (``results/assembly_lammps.md``): ``Assembly.random(400, 3, seed=s,
+  polydispersity=0.2)`` (kept under ``results/assembly_lammps/samples``), kn = kt = 1e4, p = 1,
+  I = 4e-4, damping 0.2, ρ = 1, frictionless consolidation, axisymmetric compression to
+  ``--strain``, a record every 0.1 %; both engines (ours on one thread, LAMMPS on one rank); the
+  statistics of ``assembly_yade.py`` (``_dem_compare.statistics``: peak angle on a ±0.25 %
+  running mean, the 20–25 % angle and Z, ε_v at 25 %) and its tolerances (means: 1.5°, 2°,
+  0.008, 0.15; each run: 2°, 3°, 0.012, 0.2). Coulomb through LAMMPS's ``gran/hooke/history``;
+  a law LAMMPS cannot run yet (no exported pair style in this checkout) runs ours only and says
+  so in the table.
+* **Cost** (``results/assembly_lammps_cost.md``): ms per step of the shear of the same
+  ``--cost-grains`` sample (a jittered cubic array compressed frictionless by LAMMPS) in both
+  engines at equal cores (1 thread / 1 rank, 2 threads / 2 ranks).
+* **Scale** (``results/assembly_lammps_scale.md``): LAMMPS on 1 and 2 ranks at
+  ``--scale-grains`` spheres, a few hundred steps of shear: ms per step, the speed-up, the
+  memory LAMMPS reports per rank and the largest resident set of the ranks.
+
+The machine's load average is written beside each table: these are shared machines.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import re
+import resource
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+STORE = HERE / "results" / "assembly_lammps"
+KN = KT = 1e4
+PRESSURE = 1.0
+
+
+def make_law(name: str, mu: float):
+    import frictionrules as fr
+    if name == "coulomb":
+        return fr.Coulomb(mu)
+    if name == "dilatant":
+        return fr.UserLaw("sqrt(T1**2 + T2**2) - mu*N", potential="sqrt(T1**2 + T2**2) - beta*N",
+                          params={"mu": mu, "beta": mu / 3})
+    raise SystemExit(f"law {name!r}: coulomb or dilatant")
+
+
+def sample(seed: int, n: int = 400) -> dict:
+    """``Assembly.random(n, 3, seed=seed, polydispersity=0.2)``, kept."""
+    import frictionrules as fr
+    path = STORE / "samples" / f"random{n}_seed{seed}.npz"
+    if not path.exists():
+        path.parent.mkdir(parents=True, exist_ok=True)
+        a = fr.Assembly.random(n, 3, fr.ContactModel(fr.Coulomb(0.3), kn=KN, kt=KT),
+                               polydispersity=0.2, seed=seed)
+        np.savez(path, positions=a.positions, radii=a.radii, cell=a.cell)
+    d = np.load(path)
+    return {"positions": d["positions"], "radii": d["radii"], "cell": d["cell"], "seed": seed}
+
+
+def assembly_of(s: dict, law):
+    import frictionrules as fr
+    return fr.Assembly(s["positions"], s["radii"], s["cell"], fr.ContactModel(law, kn=KN, kt=KT))
+
+
+def run_one(s: dict, law_name: str, mu: float, engine: str, strain: float):
+    """One run: (Run, result) or (None, reason) where the engine cannot run the law."""
+    import frictionrules as fr
+    from _dem_compare import Run
+    a = assembly_of(s, make_law(law_name, mu))
+    extra = {}
+    if engine == "lammps":
+        extra = dict(engine="lammps", ranks=1,
+                     lammps_dir=STORE / "runs" / f"seed{s['seed']}_mu{mu:g}_{law_name}")
+    cpu0 = time.process_time() + _children_cpu()
+    t0 = time.perf_counter()
+    try:
+        r = fr.triaxial(a, "axisymmetric", pressure=PRESSURE, axial_strain=strain, method="dem",
+                        consolidation="frictionless", record_every=1e-3, **extra)
+    except fr.FrictionRulesError as exc:
+        if engine == "lammps" and "violates" in str(exc):
+            return None, str(exc)
+        raise
+    wall = time.perf_counter() - t0
+    cpu = time.process_time() + _children_cpu() - cpu0
+    run = Run(axial_strain=np.asarray(r.axial_strain), volumetric_strain=np.asarray(r.volumetric_strain),
+              stress=np.asarray(r.stress), coordination=np.asarray(r.coordination), wall=wall,
+              cpu=cpu, steps=-1, dt=math.nan, info={"message": r.message})
+    return run, r
+
+
+def _children_cpu() -> float:
+    u = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return u.ru_utime + u.ru_stime
+
+
+def _f(x, digits=2):
+    return "–" if x is None or (isinstance(x, float) and math.isnan(x)) else f"{x:.{digits}f}"
+
+
+def statistics_table(args) -> None:
+    from _dem_compare import statistics, within
+    from _table import write_table
+    seeds = [int(v) for v in args.seeds.split(",")]
+    mus = [float(v) for v in args.mu.split(",")]
+    laws = [v for v in args.laws.split(",") if v]
+    keys = (("peak", 2), ("end", 2), ("ev", 4), ("z", 2))
+    rows, notes, per = [], [], {}
+    for law in laws:
+        for mu in mus:
+            for seed in seeds:
+                s = sample(seed)
+                ours, _ = run_one(s, law, mu, "frictionrules", args.strain)
+                theirs, why = run_one(s, law, mu, "lammps", args.strain)
+                so = statistics(ours, args.strain)
+                sl = statistics(theirs, args.strain) if theirs is not None else None
+                per.setdefault((law, mu), []).append((so, sl))
+                if theirs is None:
+                    notes.append(f"{law} μ = {mu:g}: LAMMPS not run: {why}")
+                row = [law, mu, seed]
+                for k, d in keys:
+                    a = getattr(so, k)
+                    b = getattr(sl, k) if sl else math.nan
+                    row += [_f(a, d), _f(b, d), f"{_f(a - b, d)} {within(a - b, k, False)}"]
+                row += [_f(ours.wall, 0), _f(theirs.wall, 0) if theirs else "–"]
+                rows.append(row)
+                print(row, flush=True)
+                _write(args, rows, notes, per, keys, write_table)
+    _write(args, rows, notes, per, keys, write_table)
+
+
+def _write(args, rows, notes, per, keys, write_table):
+    from _dem_compare import within
+    out = list(rows)
+    for (law, mu), pairs in per.items():
+        if not all(sl is not None for _, sl in pairs):
+            continue
+        row = [law, mu, f"**mean of {len(pairs)}**"]
+        for k, d in keys:
+            a = float(np.mean([getattr(so, k) for so, _ in pairs]))
+            b = float(np.mean([getattr(sl, k) for _, sl in pairs]))
+            row += [_f(a, d), _f(b, d), f"{_f(a - b, d)} {within(a - b, k, True)}"]
+        out.append(row + ["", ""])
+    head = ["law", "μ", "seed"]
+    for name in ("peak φ (°)", "end φ (°)", "ε_v", "Z"):
+        head += [f"ours: {name}", f"LAMMPS: {name}", "ours − LAMMPS"]
+    head += ["ours: wall s", "LAMMPS: wall s"]
+    text = (f"Assembly.random(400, 3, seed, polydispersity=0.2); kn = kt = {KN:g}, p = {PRESSURE:g}, "
+            f"I = 4e-4, damping 0.2, ρ = 1, frictionless consolidation, to {100 * args.strain:g} % "
+            "axial strain. Ours on 1 thread, LAMMPS (gran/hooke/history for Coulomb) on 1 rank. "
+            "Tolerances of assembly_yade.py (✓ within, ✗ outside). "
+            f"Load average at the end: {os.getloadavg()[0]:.1f} (2 cores, shared). "
+            + " ".join(sorted(set(notes))))
+    write_table("assembly_lammps", "The same triaxial test in our engine and in LAMMPS", head, out,
+                text)
+
+
+# ---- cost ------------------------------------------------------------------------------------
+
+def lattice_cloud(n: int, seed: int = 1):
+    """A jittered simple cubic array of about ``n`` spheres, radii 1 ± 20 %, spacing 2.6 (no
+    overlap), solid fraction about 0.24."""
+    rng = np.random.default_rng(seed)
+    m = int(round(n ** (1 / 3)))
+    g = np.arange(m) * 2.6 + 1.3
+    x = np.stack(np.meshgrid(g, g, g, indexing="ij"), -1).reshape(-1, 3)
+    x = x + rng.uniform(-0.05, 0.05, x.shape)
+    r = rng.uniform(0.8, 1.2, len(x))
+    return x, r, np.eye(3) * 2.6 * m
+
+
+def dense_sample(n: int) -> dict:
+    """The cloud compressed frictionless to p by LAMMPS (its consolidation), kept."""
+    import frictionrules as fr
+    path = STORE / "samples" / f"dense{n}.npz"
+    if not path.exists():
+        x, r, h = lattice_cloud(n)
+        a = fr.Assembly(x, r, h, fr.ContactModel(fr.Coulomb(0.0), kn=KN, kt=KT))
+        folder = STORE / "runs" / f"dense{n}"
+        res = fr.triaxial(a, "axisymmetric", pressure=PRESSURE, axial_strain=1e-3, method="dem",
+                          engine="lammps", ranks=2, lammps_dir=folder, record_every=1e-3)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        np.savez(path, positions=res.final.positions, radii=r, cell=res.final.cell)
+    d = np.load(path)
+    return {"positions": d["positions"], "radii": d["radii"], "cell": d["cell"], "seed": 0}
+
+
+def _loop_ms(folder: Path) -> tuple[float, int, float]:
+    """The shear run's (last) loop in ``log.lammps``: ms per step, steps, MB per rank (max)."""
+    text = (folder / "log.lammps").read_text()
+    loops = re.findall(r"Loop time of ([\d.e+-]+) on (\d+) procs for (\d+) steps", text)
+    mem = re.findall(r"Per MPI rank memory allocation \(min/avg/max\) = [\d.]+ \| [\d.]+ \| ([\d.]+) Mbytes", text)
+    seconds, _, steps = loops[-1]
+    return 1e3 * float(seconds) / int(steps), int(steps), float(mem[-1])
+
+
+def cost_table(args) -> None:
+    """ms/step of the shear, both engines, the same dense sample (``--cost-grains``)."""
+    from _table import write_table
+    s = dense_sample(args.cost_grains)
+    rows = []
+    for cores in (1, 2):
+        ours = _ours_ms(s, cores, args.cost_strain)
+        theirs = _lammps_ms(s, cores, args.cost_strain, f"cost{args.cost_grains}_r{cores}")
+        rows.append([len(s["radii"]), cores, _f(ours, 3), _f(theirs[0], 3), _f(ours / theirs[0], 2),
+                     theirs[1]])
+        print(rows[-1], flush=True)
+    write_table("assembly_lammps_cost", "Time per step of the shear: our engine beside LAMMPS",
+                ["spheres", "cores (threads = ranks)", "ours: ms/step", "LAMMPS: ms/step",
+                 "ours / LAMMPS", "LAMMPS shear steps"], rows,
+                f"Coulomb μ = 0.3 (LAMMPS: gran/hooke/history), kn = kt = {KN:g}, the sample "
+                f"compressed frictionless to p = {PRESSURE:g} by LAMMPS; ours: the shear stage's "
+                "steps over its wall time (after a short consolidation with the laws); LAMMPS: "
+                "the shear run's loop time over its steps (log.lammps). "
+                f"Load average at the end: {os.getloadavg()[0]:.1f} (2 cores, shared: under load).")
+
+
+def _ours_ms(s: dict, threads: int, strain: float) -> float:
+    """Our engine's ms per shear step in a fresh interpreter on ``threads`` threads."""
+    code = f"""
+import json, sys, time, numpy as np
+sys.path.insert(0, {str(HERE)!r})
+import frictionrules as fr
+d = np.load({str(STORE / 'samples' / f'dense{len(s["radii"])}.npz')!r})
+a = fr.Assembly(d["positions"], d["radii"], d["cell"], fr.ContactModel(fr.Coulomb(0.3), kn={KN}, kt={KT}))
+fr.triaxial(a, "axisymmetric", pressure={PRESSURE}, axial_strain=2e-4, method="dem",
+            consolidation="stress", record_every=1e-4)  # compile and warm
+times = []
+class P:
+    def __call__(self, done, total):
+        times.append((time.perf_counter(), done))
+    def phase(self, text):
+        pass
+r = fr.triaxial(a, "axisymmetric", pressure={PRESSURE}, axial_strain={strain}, method="dem",
+                consolidation="stress", record_every={strain / 4}, progress=P())
+steps = int(r.engine.meters[0]["steps"])
+t = [t for t, k in times if k >= 1]
+print(json.dumps({{"seconds": t[-1] - t[0], "stage_time": float(r.time[-1] - r.time[1]),
+                  "dt": float(r.engine.meters[0]["time"]) / steps}}))
+"""
+    env = dict(os.environ, NUMBA_NUM_THREADS=str(threads))
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True,
+                         check=True).stdout.strip().splitlines()[-1]
+    d = json.loads(out)
+    return 1e3 * d["seconds"] / (d["stage_time"] / d["dt"])
+
+
+def _lammps_ms(s: dict, ranks: int, strain: float, name: str):
+    import frictionrules as fr
+    a = assembly_of(s, fr.Coulomb(0.3))
+    folder = STORE / "runs" / name
+    fr.triaxial(a, "axisymmetric", pressure=PRESSURE, axial_strain=strain, method="dem",
+                engine="lammps", ranks=ranks, lammps_dir=folder, consolidation="stress",
+                record_every=strain / 4)
+    ms, steps, mem = _loop_ms(folder)
+    return ms, steps, mem
+
+
+def scale_table(args) -> None:
+    from _table import write_table
+    s = dense_sample(args.scale_grains)
+    rows, base = [], None
+    for ranks in (1, 2):
+        cpu0 = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
+        ms, steps, mem = _lammps_ms(s, ranks, args.scale_strain, f"scale{args.scale_grains}_r{ranks}")
+        rss = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
+        base = base or ms
+        rows.append([len(s["radii"]), ranks, steps, _f(ms, 2), _f(base / ms, 2), _f(mem, 1),
+                     _f(max(rss, cpu0) / 1024, 0)])
+        print(rows[-1], flush=True)
+    write_table("assembly_lammps_scale", "LAMMPS on 1 and 2 ranks",
+                ["spheres", "ranks", "shear steps", "ms/step", "speed-up over 1 rank",
+                 "LAMMPS memory per rank (MB, max)", "largest resident set of a child (MB)"],
+                rows,
+                "Coulomb μ = 0.3 (gran/hooke/history), kn = kt = 1e4, the sample compressed "
+                "frictionless by LAMMPS on 2 ranks; a short shear (consolidation='stress' "
+                "first: a short settle with the laws). ms/step: the shear loop's time over its "
+                "steps (log.lammps). Resident set: ru_maxrss of the children so far (the largest "
+                f"rank of any run up to that row). Load average at the end: "
+                f"{os.getloadavg()[0]:.1f} (2 cores, shared: under load).")
+
+
+def main(argv=None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--seeds", default="1,2,3")
+    parser.add_argument("--mu", default="0.3,0.5")
+    parser.add_argument("--laws", default="coulomb,dilatant")
+    parser.add_argument("--strain", type=float, default=0.25)
+    parser.add_argument("--cost-grains", type=int, default=10_000)
+    parser.add_argument("--cost-strain", type=float, default=2e-3)
+    parser.add_argument("--scale-grains", type=int, default=100_000)
+    parser.add_argument("--scale-strain", type=float, default=4e-4)
+    parser.add_argument("--skip-stats", action="store_true")
+    parser.add_argument("--skip-cost", action="store_true")
+    parser.add_argument("--skip-scale", action="store_true")
+    args = parser.parse_args(argv)
+    os.environ.setdefault("NUMBA_NUM_THREADS", "1")
+    if not args.skip_stats:
+        statistics_table(args)
+    if not args.skip_cost:
+        cost_table(args)
+    if not args.skip_scale:
+        scale_table(args)
+
+
+if __name__ == "__main__":
+    main()
