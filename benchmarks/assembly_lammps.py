@@ -167,32 +167,41 @@ def _write(args, rows, notes, per, keys, write_table):
 
 # ---- cost ------------------------------------------------------------------------------------
 
-def lattice_cloud(n: int, seed: int = 1):
-    """A jittered simple cubic array of about ``n`` spheres, radii 1 ± 20 %, spacing 2.6 (no
-    overlap), solid fraction about 0.24."""
-    rng = np.random.default_rng(seed)
-    m = int(round(n ** (1 / 3)))
-    g = np.arange(m) * 2.6 + 1.3
-    x = np.stack(np.meshgrid(g, g, g, indexing="ij"), -1).reshape(-1, 3)
-    x = x + rng.uniform(-0.05, 0.05, x.shape)
-    r = rng.uniform(0.8, 1.2, len(x))
-    return x, r, np.eye(3) * 2.6 * m
+def consolidated(seed: int = 1) -> dict:
+    """The 400-sphere sample of ``seed`` consolidated frictionless to p by LAMMPS: the centres
+    and box at the start of the shear of the statistics' run (``runs/seed1_mu0.3_coulomb``),
+    or of a short run made for it."""
+    import frictionrules as fr
+    folder = STORE / "runs" / f"seed{seed}_mu0.3_coulomb"
+    if not (folder / "positions.dump").exists():
+        s = sample(seed)
+        folder = STORE / "runs" / f"consolidated{seed}"
+        fr.triaxial(assembly_of(s, fr.Coulomb(0.3)), "axisymmetric", pressure=PRESSURE,
+                    axial_strain=1e-3, method="dem", engine="lammps", lammps_dir=folder,
+                    consolidation="frictionless")
+    from frictionrules.assembly._lammps._runner import _positions, _records
+    s = sample(seed)
+    x = _positions(folder, len(s["radii"]))[0]
+    row = _records(folder)[0]
+    return {"positions": x, "radii": s["radii"], "cell": np.diag(row[2:5]), "seed": seed}
 
 
 def dense_sample(n: int) -> dict:
-    """The cloud compressed frictionless to p by LAMMPS (its consolidation), kept."""
-    import frictionrules as fr
-    path = STORE / "samples" / f"dense{n}.npz"
-    if not path.exists():
-        x, r, h = lattice_cloud(n)
-        a = fr.Assembly(x, r, h, fr.ContactModel(fr.Coulomb(0.0), kn=KN, kt=KT))
-        folder = STORE / "runs" / f"dense{n}"
-        res = fr.triaxial(a, "axisymmetric", pressure=PRESSURE, axial_strain=1e-3, method="dem",
-                          engine="lammps", ranks=2, lammps_dir=folder, record_every=1e-3)
-        path.parent.mkdir(parents=True, exist_ok=True)
-        np.savez(path, positions=res.final.positions, radii=r, cell=res.final.cell)
-    d = np.load(path)
-    return {"positions": d["positions"], "radii": d["radii"], "cell": d["cell"], "seed": 0}
+    """The consolidated 400-sphere sample tiled periodically to about ``n`` spheres (a periodic
+    packing repeated is one: the same contacts, forces and stress)."""
+    base = consolidated()
+    m0 = len(base["radii"])
+    reps = max(1, round((n / m0) ** (1 / 3)))
+    counts = [reps, reps, reps]
+    while np.prod(counts) * m0 < 0.97 * n:   # the nearest box of repeats to n
+        counts[int(np.argmin(counts))] += 1
+    h = base["cell"]
+    shifts = np.array([[i, j, k] for i in range(counts[0]) for j in range(counts[1])
+                       for k in range(counts[2])], float) @ h.T
+    x = (base["positions"][None, :, :] + shifts[:, None, :]).reshape(-1, 3)
+    r = np.tile(base["radii"], len(shifts))
+    return {"positions": x, "radii": r, "cell": h * np.array(counts)[None, :], "seed": 0,
+            "tiles": tuple(counts)}
 
 
 def _loop_ms(folder: Path) -> tuple[float, int, float]:
@@ -218,8 +227,9 @@ def cost_table(args) -> None:
     write_table("assembly_lammps_cost", "Time per step of the shear: our engine beside LAMMPS",
                 ["spheres", "cores (threads = ranks)", "ours: ms/step", "LAMMPS: ms/step",
                  "ours / LAMMPS", "LAMMPS shear steps"], rows,
-                f"Coulomb μ = 0.3 (LAMMPS: gran/hooke/history), kn = kt = {KN:g}, the sample "
-                f"compressed frictionless to p = {PRESSURE:g} by LAMMPS; ours: the shear stage's "
+                f"Coulomb μ = 0.3 (LAMMPS: gran/hooke/history), kn = kt = {KN:g}; the sample: "
+                f"the 400-sphere seed-1 sample consolidated frictionless to p = {PRESSURE:g} by "
+                f"LAMMPS, tiled {s['tiles']}; ours: the shear stage's "
                 "steps over its wall time (after a short consolidation with the laws); LAMMPS: "
                 "the shear run's loop time over its steps (log.lammps). "
                 f"Load average at the end: {os.getloadavg()[0]:.1f} (2 cores, shared: under load).")
@@ -227,11 +237,13 @@ def cost_table(args) -> None:
 
 def _ours_ms(s: dict, threads: int, strain: float) -> float:
     """Our engine's ms per shear step in a fresh interpreter on ``threads`` threads."""
+    path = STORE / "samples" / f"dense{len(s['radii'])}.npz"
+    np.savez(path, positions=s["positions"], radii=s["radii"], cell=s["cell"])
     code = f"""
 import json, sys, time, numpy as np
 sys.path.insert(0, {str(HERE)!r})
 import frictionrules as fr
-d = np.load({str(STORE / 'samples' / f'dense{len(s["radii"])}.npz')!r})
+d = np.load({str(path)!r})
 a = fr.Assembly(d["positions"], d["radii"], d["cell"], fr.ContactModel(fr.Coulomb(0.3), kn={KN}, kt={KT}))
 fr.triaxial(a, "axisymmetric", pressure={PRESSURE}, axial_strain=2e-4, method="dem",
             consolidation="stress", record_every=1e-4)  # compile and warm
@@ -282,8 +294,8 @@ def scale_table(args) -> None:
                 ["spheres", "ranks", "shear steps", "ms/step", "speed-up over 1 rank",
                  "LAMMPS memory per rank (MB, max)", "largest resident set of a child (MB)"],
                 rows,
-                "Coulomb μ = 0.3 (gran/hooke/history), kn = kt = 1e4, the sample compressed "
-                "frictionless by LAMMPS on 2 ranks; a short shear (consolidation='stress' "
+                "Coulomb μ = 0.3 (gran/hooke/history), kn = kt = 1e4; the 400-sphere seed-1 sample "
+                f"consolidated by LAMMPS, tiled {s['tiles']}; a short shear (consolidation='stress' "
                 "first: a short settle with the laws). ms/step: the shear loop's time over its "
                 "steps (log.lammps). Resident set: ru_maxrss of the children so far (the largest "
                 f"rank of any run up to that row). Load average at the end: "
@@ -299,7 +311,7 @@ def main(argv=None) -> None:
     parser.add_argument("--cost-grains", type=int, default=10_000)
     parser.add_argument("--cost-strain", type=float, default=2e-3)
     parser.add_argument("--scale-grains", type=int, default=100_000)
-    parser.add_argument("--scale-strain", type=float, default=4e-4)
+    parser.add_argument("--scale-strain", type=float, default=2e-4)
     parser.add_argument("--skip-stats", action="store_true")
     parser.add_argument("--skip-cost", action="store_true")
     parser.add_argument("--skip-scale", action="store_true")
