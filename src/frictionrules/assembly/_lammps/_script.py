@@ -117,12 +117,14 @@ def _settle(pressure: float, gain: float, max_rate: float, unbalanced_tol: float
 
 
 def input_script(*, pair_frictionless: list[str], pair_law: list[str], law_outputs: bool,
+                 normal_law: str,
                  kind: str, pressure: float, rate: float, axial_strain: float, record_every: float,
                  damping: float, dt: float, gain: float, skin: float, frictionless: bool,
                  positions_every_record: bool) -> str:
     """The input script (module docstring). ``pair_*``: the pair lines of the frictionless
     stage and of the laws; ``law_outputs``: the pair style offers ``compute pair/local p3 p4``
-    (sliding flag, dissipation)."""
+    (sliding flag, dissipation); ``normal_law``: its ``compute pair/local`` value of the normal
+    force ("force" for LAMMPS's own styles)."""
     from .._dem._protocol import CONSOLIDATION_RATE, PRELOAD, SERVO_RATE, UNBALANCED_TOL
     record_steps = max(1, int(round(record_every / rate / dt)))
     total = int(math.ceil(axial_strain / rate / dt - 1e-9))
@@ -148,7 +150,7 @@ def input_script(*, pair_frictionless: list[str], pair_law: list[str], law_outpu
         "variable none atom c_contacts==0",
         "variable one atom c_contacts==1",
         "compute counts all reduce sum c_contacts v_none v_one",
-        "compute normal all pair/local force",
+        f"compute normal all pair/local {'force' if frictionless else normal_law}",
         "compute forces all reduce sum c_normal inputs local",
         "variable force atom sqrt(f_store[1]^2+f_store[2]^2+f_store[3]^2)",
         "compute grainforce all reduce ave v_force",
@@ -165,7 +167,8 @@ def input_script(*, pair_frictionless: list[str], pair_law: list[str], law_outpu
                          PRELOAD * UNBALANCED_TOL, "consolidation (frictionless, preload)")
         lines += _settle(pressure, gain, CONSOLIDATION_RATE * rate, UNBALANCED_TOL,
                          "consolidation (frictionless)")
-        lines += ["# the laws take over: virgin tangential histories", *pair_law]
+        lines += ["# the laws take over: virgin tangential histories", *pair_law,
+                  "uncompute normal", f"compute normal all pair/local {normal_law}"]
     else:
         lines += _settle(pressure, gain, CONSOLIDATION_RATE * rate, UNBALANCED_TOL,
                          "consolidation")
