@@ -1,8 +1,8 @@
 """Benchmark: the same triaxial test in our engine and in LAMMPS (``engine="lammps"``).
 
 One command: ``python benchmarks/assembly_lammps.py [--seeds 1,2,3] [--mu 0.3,0.5]
-[--laws coulomb,dilatant] [--strain 0.25] [--cost-grains 10000] [--scale-grains 100000]
-[--skip-stats] [--skip-cost] [--skip-scale]``.
+[--laws coulomb,dilatant] [--strain 0.25] [--pair exported|gran/hooke/history]
+[--cost-grains 10000] [--scale-grains 100000] [--skip-stats] [--skip-cost] [--skip-scale]``.
 
 * **Statistics** (``results/assembly_lammps.md``): ``Assembly.random(400, 3, seed=s,
   polydispersity=0.2)`` (kept under ``results/assembly_lammps/samples``), kn = kt = 1e4, p = 1,
@@ -10,9 +10,10 @@ One command: ``python benchmarks/assembly_lammps.py [--seeds 1,2,3] [--mu 0.3,0.
   ``--strain``, a record every 0.1 %; both engines (ours on one thread, LAMMPS on one rank); the
   statistics of ``assembly_yade.py`` (``_dem_compare.statistics``: peak angle on a ±0.25 %
   running mean, the 20–25 % angle and Z, ε_v at 25 %) and its tolerances (means: 1.5°, 2°,
-  0.008, 0.15; each run: 2°, 3°, 0.012, 0.2). Coulomb through LAMMPS's ``gran/hooke/history``;
-  a law LAMMPS cannot run yet (no exported pair style in this checkout) runs ours only and says
-  so in the table.
+  0.008, 0.15; each run: 2°, 3°, 0.012, 0.2). The laws run in LAMMPS through their exported
+  pair style (``--pair exported``, the default; table ``assembly_lammps.md``) or, for Coulomb,
+  LAMMPS's own ``gran/hooke/history`` (``--pair gran/hooke/history``; table
+  ``assembly_lammps_builtin.md``); our engine's runs are kept and reused by both.
 * **Cost** (``results/assembly_lammps_cost.md``): ms per step of the shear of the same
   ``--cost-grains`` sample (a jittered cubic array compressed frictionless by LAMMPS) in both
   engines at equal cores (1 thread / 1 rank, 2 threads / 2 ranks).
@@ -73,30 +74,44 @@ def assembly_of(s: dict, law):
     return fr.Assembly(s["positions"], s["radii"], s["cell"], fr.ContactModel(law, kn=KN, kt=KT))
 
 
-def run_one(s: dict, law_name: str, mu: float, engine: str, strain: float):
-    """One run: (Run, result) or (None, reason) where the engine cannot run the law."""
+def run_one(s: dict, law_name: str, mu: float, engine: str, strain: float, pair: str = "exported"):
+    """One run: (Run, message) or (None, reason) where the engine cannot run the law. Our
+    engine's runs are kept under ``results/assembly_lammps/ours`` and reused."""
     import frictionrules as fr
     from _dem_compare import Run
     a = assembly_of(s, make_law(law_name, mu))
-    extra = {}
-    if engine == "lammps":
-        extra = dict(engine="lammps", ranks=1,
-                     lammps_dir=STORE / "runs" / f"seed{s['seed']}_mu{mu:g}_{law_name}")
+    tag = f"seed{s['seed']}_mu{mu:g}_{law_name}_{100 * strain:g}pc"
+    kept = STORE / "ours" / f"{tag}.npz"
+    if engine == "frictionrules" and kept.exists():
+        d = np.load(kept)
+        return Run(axial_strain=d["axial_strain"], volumetric_strain=d["volumetric_strain"],
+                   stress=d["stress"], coordination=d["coordination"], wall=float(d["wall"]),
+                   cpu=float(d["cpu"]), steps=-1, dt=math.nan, info={}), "kept"
     cpu0 = time.process_time() + _children_cpu()
     t0 = time.perf_counter()
-    try:
-        r = fr.triaxial(a, "axisymmetric", pressure=PRESSURE, axial_strain=strain, method="dem",
-                        consolidation="frictionless", record_every=1e-3, **extra)
-    except fr.FrictionRulesError as exc:
-        if engine == "lammps" and "violates" in str(exc):
+    if engine == "lammps":
+        from frictionrules.assembly._lammps._runner import run_lammps
+        folder = STORE / "runs" / f"{tag}_{pair.replace('/', '-')}"
+        try:
+            files = fr.write_lammps_triaxial(a, "axisymmetric", folder, pressure=PRESSURE,
+                                             axial_strain=strain, consolidation="frictionless",
+                                             record_every=1e-3, pair_style=pair)
+        except fr.FrictionRulesError as exc:
             return None, str(exc)
-        raise
+        r = fr.read_lammps_triaxial(a, folder, ended=run_lammps(files), ranks=1)
+    else:
+        r = fr.triaxial(a, "axisymmetric", pressure=PRESSURE, axial_strain=strain, method="dem",
+                        consolidation="frictionless", record_every=1e-3)
     wall = time.perf_counter() - t0
     cpu = time.process_time() + _children_cpu() - cpu0
     run = Run(axial_strain=np.asarray(r.axial_strain), volumetric_strain=np.asarray(r.volumetric_strain),
               stress=np.asarray(r.stress), coordination=np.asarray(r.coordination), wall=wall,
               cpu=cpu, steps=-1, dt=math.nan, info={"message": r.message})
-    return run, r
+    if engine == "frictionrules":
+        kept.parent.mkdir(parents=True, exist_ok=True)
+        np.savez(kept, axial_strain=run.axial_strain, volumetric_strain=run.volumetric_strain,
+                 stress=run.stress, coordination=run.coordination, wall=wall, cpu=cpu)
+    return run, r.message
 
 
 def _children_cpu() -> float:
@@ -121,7 +136,7 @@ def statistics_table(args) -> None:
             for seed in seeds:
                 s = sample(seed)
                 ours, _ = run_one(s, law, mu, "frictionrules", args.strain)
-                theirs, why = run_one(s, law, mu, "lammps", args.strain)
+                theirs, why = run_one(s, law, mu, "lammps", args.strain, args.pair)
                 so = statistics(ours, args.strain)
                 sl = statistics(theirs, args.strain) if theirs is not None else None
                 per.setdefault((law, mu), []).append((so, sl))
@@ -157,12 +172,15 @@ def _write(args, rows, notes, per, keys, write_table):
     head += ["ours: wall s", "LAMMPS: wall s"]
     text = (f"Assembly.random(400, 3, seed, polydispersity=0.2); kn = kt = {KN:g}, p = {PRESSURE:g}, "
             f"I = 4e-4, damping 0.2, ρ = 1, frictionless consolidation, to {100 * args.strain:g} % "
-            "axial strain. Ours on 1 thread, LAMMPS (gran/hooke/history for Coulomb) on 1 rank. "
+            f"axial strain. Ours on 1 thread, LAMMPS on 1 rank, the laws' pair style: {args.pair} "
+            "(exported: the law's generated return map with our contact kinematics; "
+            "gran/hooke/history: LAMMPS's own spring-Coulomb). "
             "Tolerances of assembly_yade.py (✓ within, ✗ outside). "
             f"Load average at the end: {os.getloadavg()[0]:.1f} (2 cores, shared). "
             + " ".join(sorted(set(notes))))
-    write_table("assembly_lammps", "The same triaxial test in our engine and in LAMMPS", head, out,
-                text)
+    name = "assembly_lammps" + ("" if args.pair == "exported" else "_builtin")
+    write_table(name, f"The same triaxial test in our engine and in LAMMPS ({args.pair})", head,
+                out, text)
 
 
 # ---- cost ------------------------------------------------------------------------------------
@@ -312,6 +330,8 @@ def main(argv=None) -> None:
     parser.add_argument("--cost-strain", type=float, default=2e-3)
     parser.add_argument("--scale-grains", type=int, default=100_000)
     parser.add_argument("--scale-strain", type=float, default=2e-4)
+    parser.add_argument("--pair", default="exported", choices=("exported", "gran/hooke/history"),
+                        help="the laws' pair style in LAMMPS")
     parser.add_argument("--skip-stats", action="store_true")
     parser.add_argument("--skip-cost", action="store_true")
     parser.add_argument("--skip-scale", action="store_true")
