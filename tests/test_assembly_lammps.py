@@ -220,3 +220,14 @@ def test_cli_engine_lammps_on_two_ranks(tmp_path):
     # --out is our engine's run file: refused with LAMMPS, in one line (exit 2)
     assert main(["assembly", str(cfg), "--engine", "lammps", "--out", str(tmp_path / "r.h5"),
                  "--quiet"]) == 2
+
+
+def test_vtk_files_of_a_lammps_run(run, tmp_path):
+    """ParaView's files of a LAMMPS run: its records have centres and cells, the radii are the
+    assembly's (the run keeps no engine state); without them, one line."""
+    a, _, r = run
+    files = fr.write_vtk(r, tmp_path, every=5, radii=a.radii)
+    assert [f.name for f in files] == ["grains.pvd", "contacts.pvd", "cell.pvd"]
+    assert (tmp_path / "grains_000010.vtu").exists()
+    with pytest.raises(FrictionRulesError, match="radii = None violates"):
+        fr.write_vtk(r, tmp_path)

@@ -95,7 +95,7 @@ def run(args) -> int:
         print(f"wrote {figure}")
     if vtk is not None:
         from ..assembly import write_vtk
-        files = write_vtk(result, vtk, every=args.vtk_every)
+        files = write_vtk(result, vtk, every=args.vtk_every, radii=assembly.radii)
         print(f"wrote {', '.join(str(f) for f in files)}")
     return _exit_code(result, dem)
 
