@@ -231,3 +231,12 @@ def test_vtk_files_of_a_lammps_run(run, tmp_path):
     assert (tmp_path / "grains_000010.vtu").exists()
     with pytest.raises(FrictionRulesError, match="radii = None violates"):
         fr.write_vtk(r, tmp_path)
+
+
+def test_max_time_stops_lammps(tmp_path):
+    """``max_time`` ends the LAMMPS process; stopped before any record, the run says so."""
+    need_lammps()
+    a = assembly(n=60)
+    with pytest.raises(FrictionRulesError, match="max_time = 0.1 violates: long enough"):
+        fr.triaxial(a, "axisymmetric", pressure=PRESSURE, axial_strain=0.01, method="dem",
+                    engine="lammps", lammps_dir=tmp_path, max_time=0.1)

@@ -254,15 +254,24 @@ def _positions(folder: Path, n: int) -> list:
 
 
 def _version(folder: Path) -> str:
-    out = folder / "lammps.out"
-    if out.exists():
-        for line in out.read_text().splitlines()[:3]:
-            if line.startswith("LAMMPS ("):
-                return line.strip()
+    for name in ("lammps.out", "log.lammps"):
+        out = folder / name
+        if out.exists():
+            for line in out.read_text().splitlines()[:3]:
+                if line.startswith("LAMMPS ("):
+                    return line.strip()
     return "LAMMPS"
 
 
-def read_lammps_triaxial(assembly, folder, *, ended: str = "completed",
+def _ended(folder: Path, records: int) -> str:
+    """How a run ended, from its stages' file: "completed" where the shear finished."""
+    stages = folder / STAGES
+    if stages.exists() and "shear done" in stages.read_text():
+        return "completed"
+    return f"stopped after {records - 1} records (the shear did not finish)"
+
+
+def read_lammps_triaxial(assembly, folder, *, ended: str | None = None,
                          ranks: int | None = None) -> TriaxialResult:
     r"""The :class:`~frictionrules.TriaxialResult` of a LAMMPS run of
     :func:`write_lammps_triaxial`'s files in ``folder`` (the same ``assembly``).
@@ -276,6 +285,18 @@ def read_lammps_triaxial(assembly, folder, *, ended: str = "completed",
     ``SNAPSHOT_GRAINS`` grains keep centres and contacts at the last record only (the others
     hold an empty snapshot). ``sliding_fraction`` is NaN where the pair style offers no
     sliding flag; ``energy`` and ``engine`` are None.
+
+    Parameters
+    ----------
+    assembly : Assembly
+        The sample the files were written for.
+    folder : path
+        The run's folder (:attr:`LammpsFiles.folder`).
+    ended : str, optional
+        How the run ended, the start of ``message``; by default read from ``stages.txt``
+        ("completed" where the shear finished).
+    ranks : int, optional
+        The ranks it ran on, for ``message``.
     """
     from .._contacts import build
     from .._dem._protocol import peak_of
@@ -285,8 +306,12 @@ def read_lammps_triaxial(assembly, folder, *, ended: str = "completed",
     if len(rec) == 0:
         raise FrictionRulesError(f"{folder / RECORDS} has no record: the run stopped before the "
                                  "end of its consolidation")
-    col = {name: rec[:, k] for k, name in enumerate(RECORD_COLUMNS)}
     n = assembly.size
+    if opts["grains"] != n:
+        raise FrictionRulesError(f"assembly of {n} grains violates: the {opts['grains']} grains "
+                                 f"of the run in {folder}")
+    ended = ended if ended is not None else _ended(folder, len(rec))
+    col = {name: rec[:, k] for k, name in enumerate(RECORD_COLUMNS)}
     lengths = np.stack((col["lx"], col["ly"], col["lz"]), axis=1)
     strain = np.zeros((len(rec), 3, 3))
     for a in range(3):
@@ -379,4 +404,7 @@ def _write_run_read(assembly, kind, folder, pressure, axial_strain, ranks, progr
     files = write_lammps_triaxial(assembly, kind, folder, pressure=pressure,
                                   axial_strain=axial_strain, **options)
     ended = run_lammps(files, ranks=ranks, progress=progress, max_time=max_time)
+    if ended != "completed" and len(_records(files.folder)) == 0:
+        raise FrictionRulesError(f"max_time = {max_time!r} violates: long enough for the "
+                                 "consolidation (LAMMPS was stopped before its first record)")
     return read_lammps_triaxial(assembly, files.folder, ended=ended, ranks=ranks)
