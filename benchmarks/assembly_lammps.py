@@ -323,6 +323,43 @@ def scale_table(args) -> None:
                 "jobs: under load, and 1- and 2-rank runs did not see the same load).")
 
 
+def figure(path: str, strain: float) -> None:
+    """The mobilized angle, ε_v and Z against the axial strain of the kept runs: ours solid,
+    LAMMPS dashed (exported) or dotted (gran/hooke/history), a colour per run."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    import frictionrules as fr
+    from _dem_compare import mobilized_angle
+    fig, axes = plt.subplots(1, 3, figsize=(13, 4))
+    tags = sorted(p.stem for p in (STORE / "ours").glob(f"*_{100 * strain:g}pc.npz"))
+    for k, tag in enumerate(tags):
+        d = np.load(STORE / "ours" / f"{tag}.npz")
+        curves = [("ours", "-", d["axial_strain"], d["stress"], d["volumetric_strain"],
+                   d["coordination"])]
+        seed = int(tag.split("_")[0].removeprefix("seed"))
+        for pair, style in (("exported", "--"), ("gran-hooke-history", ":")):
+            folder = STORE / "runs" / f"{tag}_{pair}"
+            if not (folder / "records.txt").exists():
+                continue
+            s = sample(seed)
+            r = fr.read_lammps_triaxial(assembly_of(s, fr.Coulomb(0.3)), folder)
+            curves.append((f"LAMMPS {pair}", style, r.axial_strain, r.stress,
+                           r.volumetric_strain, r.coordination))
+        for name, style, e, stress, ev, z in curves:
+            for ax, y in zip(axes, (mobilized_angle(stress), ev, z)):
+                ax.plot(100 * e, y, style, color=f"C{k}", lw=0.8, label=f"{tag}: {name}")
+    for ax, name in zip(axes, ("mobilized angle asin((σ1 − σ3)/(σ1 + σ3)) (°)",
+                               "volumetric strain (compression +)", "coordination Z")):
+        ax.set_xlabel("axial strain (%)")
+        ax.set_ylabel(name)
+    axes[0].legend(fontsize=6)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    print(f"wrote {path}")
+
+
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seeds", default="1,2,3")
@@ -338,6 +375,7 @@ def main(argv=None) -> None:
     parser.add_argument("--skip-stats", action="store_true")
     parser.add_argument("--skip-cost", action="store_true")
     parser.add_argument("--skip-scale", action="store_true")
+    parser.add_argument("--figure", help="the kept runs' curves, ours beside LAMMPS's (.png)")
     args = parser.parse_args(argv)
     os.environ.setdefault("NUMBA_NUM_THREADS", "1")
     if not args.skip_stats:
@@ -346,6 +384,8 @@ def main(argv=None) -> None:
         cost_table(args)
     if not args.skip_scale:
         scale_table(args)
+    if args.figure:
+        figure(args.figure, args.strain)
 
 
 if __name__ == "__main__":
