@@ -18,7 +18,8 @@ def register(sub) -> None:
                     "[loading] (kind, pressure, axial_strain, increments; or method = \"dem\" and "
                     "the dynamic engine's options) from CONFIG.toml, run the test, write every "
                     "increment (record) to the HDF5 run file (--out; an existing file of the same "
-                    "run resumes) and print the peak. See docs/assembly.md.",
+                    "run resumes) and print the peak. --engine lammps runs the dynamic test in "
+                    "LAMMPS on --ranks MPI ranks instead (docs/assembly.md, \"LAMMPS\").",
         epilog="example: frictionrules assembly examples/assembly_fcc.toml --out fcc.h5 --figure fcc.png")
     p.add_argument("config", metavar="CONFIG.toml", help="run description")
     p.add_argument("--out", metavar="RUN.h5", help="HDF5 run file (.h5, .hdf5); required but "
