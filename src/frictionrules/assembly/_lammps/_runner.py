@@ -377,7 +377,8 @@ def _message(folder: Path, opts: dict, ended: str, ranks) -> str:
              "box servo fix deform/pressure (proportional, gain "
              f"{opts['gain']:.3g}/time on the relative stress error, rate bounded as ours)",
              "Cundall damping on the half-step velocity",
-             "affine part of the relative velocity not in the tangential history (remap x)"]
+             "affine part of the relative velocity not in the tangential history (remap x)",
+             "a contact's history erased when it opens (ours: kept within the skin)"]
     if not opts["law_outputs"]:
         parts.append("no sliding fraction or dissipation from this pair style")
     return "; ".join(parts)
