@@ -44,6 +44,8 @@ sys.path.insert(0, str(HERE))
 STORE = HERE / "results" / "assembly_lammps"
 KN = KT = 1e4
 PRESSURE = 1.0
+#: --kept-only: tables of the runs kept, nothing run.
+KEPT_ONLY = False
 
 
 def make_law(name: str, mu: float):
@@ -82,6 +84,8 @@ def run_one(s: dict, law_name: str, mu: float, engine: str, strain: float, pair:
     a = assembly_of(s, make_law(law_name, mu))
     tag = f"seed{s['seed']}_mu{mu:g}_{law_name}_{100 * strain:g}pc"
     kept = STORE / "ours" / f"{tag}.npz"
+    if engine == "frictionrules" and not kept.exists() and KEPT_ONLY:
+        return None, "not run (--kept-only)"
     if engine == "frictionrules" and kept.exists():
         d = np.load(kept)
         return Run(axial_strain=d["axial_strain"], volumetric_strain=d["volumetric_strain"],
@@ -92,6 +96,15 @@ def run_one(s: dict, law_name: str, mu: float, engine: str, strain: float, pair:
     if engine == "lammps":
         from frictionrules.assembly._lammps._runner import run_lammps
         folder = STORE / "runs" / f"{tag}_{pair.replace('/', '-')}"
+        stages = folder / "stages.txt"
+        if stages.exists() and "shear done" in stages.read_text():  # kept: read it again
+            r = fr.read_lammps_triaxial(a, folder, ranks=1)
+            return Run(axial_strain=np.asarray(r.axial_strain),
+                       volumetric_strain=np.asarray(r.volumetric_strain),
+                       stress=np.asarray(r.stress), coordination=np.asarray(r.coordination),
+                       wall=math.nan, cpu=math.nan, steps=-1, dt=math.nan, info={}), "kept"
+        if KEPT_ONLY:
+            return None, "not run (--kept-only)"
         try:
             files = fr.write_lammps_triaxial(a, "axisymmetric", folder, pressure=PRESSURE,
                                              axial_strain=strain, consolidation="frictionless",
@@ -136,6 +149,8 @@ def statistics_table(args) -> None:
             for seed in seeds:
                 s = sample(seed)
                 ours, _ = run_one(s, law, mu, "frictionrules", args.strain)
+                if ours is None:
+                    continue
                 theirs, why = run_one(s, law, mu, "lammps", args.strain, args.pair)
                 so = statistics(ours, args.strain)
                 sl = statistics(theirs, args.strain) if theirs is not None else None
@@ -388,7 +403,11 @@ def main(argv=None) -> None:
     parser.add_argument("--skip-cost", action="store_true")
     parser.add_argument("--skip-scale", action="store_true")
     parser.add_argument("--figure", help="the kept runs' curves, ours beside LAMMPS's (.png)")
+    parser.add_argument("--kept-only", action="store_true",
+                        help="the tables of the kept runs only (no run)")
     args = parser.parse_args(argv)
+    global KEPT_ONLY
+    KEPT_ONLY = args.kept_only
     os.environ.setdefault("NUMBA_NUM_THREADS", "1")
     if not args.skip_stats:
         statistics_table(args)
