@@ -62,6 +62,7 @@ from .assembly import (Assembly, ContactSnapshot, SampleState, TriaxialResult, l
                        write_vtk)
 from .assembly import (ConfidenceInterval, EnsembleResult, EnsembleRun, EnsembleSummary, MeanCurve,
                        ensemble)
+from .assembly import LammpsFiles, read_lammps_triaxial, write_lammps_triaxial
 
 __all__ = [
     "FrictionRulesError",
@@ -150,6 +151,9 @@ __all__ = [
     "ContactSnapshot",
     "SampleState",
     "ensemble",
+    "write_lammps_triaxial",
+    "read_lammps_triaxial",
+    "LammpsFiles",
     "EnsembleResult",
     "EnsembleRun",
     "EnsembleSummary",

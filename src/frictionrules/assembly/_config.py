@@ -25,6 +25,8 @@
     # inertial_number = 4e-4; damping = 0.2; density = 1.0; record_every = 1e-3
     # peak_window = 2.5e-3
     # cell = "rectangular"     # or "flexible" (shear stresses held at zero instead)
+    # engine = "lammps"        # method "dem" in LAMMPS (docs/assembly.md, "LAMMPS"), with
+    # ranks = 2                # its MPI ranks
 """
 
 from __future__ import annotations
@@ -43,7 +45,8 @@ _SAMPLE = {"lattice", "frame", "cells", "radius", "reference_axis", "tolerance",
 #: The dynamic engine's own keys of [loading] (``triaxial(..., method="dem")``).
 _DEM = ("inertial_number", "damping", "density", "record_every", "peak_window")
 _LOADING = {"kind", "pressure", "axial_strain", "increments", "consolidation_increments",
-            "rtol", "max_cuts", "failure_slope", "consolidation", "method", "cell", *_DEM}
+            "rtol", "max_cuts", "failure_slope", "consolidation", "method", "cell", "engine",
+            "ranks", *_DEM}
 
 
 def _table(doc, name, file) -> dict:
@@ -56,9 +59,11 @@ def _table(doc, name, file) -> dict:
 def _check_loading(loading: dict, file) -> None:
     """The method, the cell and the dynamic engine's options, checked before the sample is
     built."""
-    from ._loading import check_cell, check_method
+    from ._loading import check_cell, check_engine, check_method
     try:
         check_method(loading.get("method", "implicit"))
+        check_engine(loading.get("engine", "frictionrules"), loading.get("method", "implicit"),
+                     None, loading.get("ranks", 1))
         if "cell" in loading:
             check_cell(loading["cell"])
         dem = {k: loading[k] for k in _DEM if k in loading}

@@ -20,16 +20,18 @@ from ..errors import FrictionRulesError, check_scalar
 from ._contacts import ContactSet, branches, build, embed, skin
 from ._consolidation import consolidation_of
 from ._geometry import Assembly
-from ._results import ContactSnapshot, SampleState, TriaxialResult
+from ._results import SampleState, TriaxialResult, snapshot
 from ._solver import CELLS, components, move, solve_increment, stress_of, triaxial_free
 
 __all__ = ["Control", "triaxial", "check_triaxial", "load_cell", "initial_state", "run", "KINDS",
-           "METHODS"]
+           "METHODS", "ENGINES"]
 
 #: The triaxial tests of :func:`triaxial`.
 KINDS = ("axisymmetric", "plane_strain", "biaxial")
 #: The methods of :func:`triaxial` and :func:`load_cell`.
 METHODS = ("implicit", "dem")
+#: The engines of :func:`triaxial`'s method "dem".
+ENGINES = ("frictionrules", "lammps")
 
 
 @dataclass(frozen=True)
@@ -128,17 +130,6 @@ def _with_force(contacts: ContactSet, moved: ContactSet, out) -> ContactSet:
     return dataclasses.replace(contacts, force=force, status=status)
 
 
-def snapshot(contacts: ContactSet) -> ContactSnapshot:
-    force, status = contacts.force, contacts.status
-    if force is None:
-        force = np.zeros((contacts.size, 3))
-        for g, model in enumerate(contacts.models):
-            force[contacts.members(g)] = model.force(contacts.states[g])
-        status = np.where(force[:, 2] > 0, 0, 2)
-    return ContactSnapshot(np.stack((contacts.i, contacts.j), axis=1), contacts.shift, contacts.frames,
-                           force, contacts.per_contact("plastic"), status, contacts.states, contacts.group)
-
-
 def run(assembly: Assembly, state: SampleState, controls, *, rtol: float = 1e-10, max_cuts: int = 8,
         progress=None, on_increment=None, max_time: float | None = None):
     """Apply the controls one after the other from ``state``.
@@ -202,6 +193,25 @@ def check_method(method: str) -> None:
         raise FrictionRulesError(f"method = {method!r} violates: one of {', '.join(METHODS)}")
 
 
+def check_engine(engine: str, method: str, run_file=None, ranks=1, lammps_dir=None) -> None:
+    """The engine of a test: ours, or LAMMPS (``method="dem"`` only, no run file); LAMMPS's
+    own options are refused with ours rather than ignored."""
+    if engine not in ENGINES:
+        raise FrictionRulesError(f"engine = {engine!r} violates: one of {', '.join(ENGINES)}")
+    if engine != "lammps":
+        for name, value, default in (("ranks", ranks, 1), ("lammps_dir", lammps_dir, None)):
+            if value != default:
+                raise FrictionRulesError(f"{name} = {value!r} violates: {default!r} for engine = "
+                                         f"{engine!r} (an option of engine = 'lammps')")
+        return
+    if engine == "lammps" and method != "dem":
+        raise FrictionRulesError(f"method = {method!r} violates: 'dem' for engine = 'lammps'")
+    if engine == "lammps" and run_file is not None:
+        raise FrictionRulesError(f"run_file = {str(run_file)!r} violates: None for engine = "
+                                 "'lammps' (run files hold our engine's state; LAMMPS keeps its "
+                                 "files in lammps_dir)")
+
+
 def _check_common(failure_slope, max_time) -> None:
     check_scalar("failure_slope", failure_slope, lo=0.0, lo_open=True, hi=1.0)
     if max_time is not None:
@@ -256,7 +266,8 @@ def triaxial(assembly: Assembly, kind: str, *, pressure: float, axial_strain: fl
              consolidation: str = "auto", method: str = "implicit",
              inertial_number: float = 4e-4, damping: float = 0.2, density: float = 1.0,
              record_every: float = 1e-3, peak_window: float = 2.5e-3,
-             cell: str = "rectangular") -> TriaxialResult:
+             cell: str = "rectangular", engine: str = "frictionrules", ranks: int = 1,
+             lammps_dir=None) -> TriaxialResult:
     r"""Consolidate the sample to the isotropic ``pressure``, then compress it along the axis.
 
     Two methods: "implicit" (the default) follows equilibrium increment by increment (Newton's
@@ -327,6 +338,16 @@ def triaxial(assembly: Assembly, kind: str, *, pressure: float, axial_strain: fl
         its shear stresses at zero (the closed forms of regular arrays, Thornton's and Rowe's,
         assume it: an array that slides unsymmetrically carries shear stresses in a rectangular
         cell). :func:`load_cell` frees any component.
+    engine : {"frictionrules", "lammps"}
+        "dem": our compiled engine, or the same test in LAMMPS (``docs/assembly.md``,
+        "LAMMPS"): its files written (:func:`write_lammps_triaxial`), LAMMPS run on ``ranks``
+        MPI ranks, its records read back (:func:`read_lammps_triaxial`); the result's
+        ``message`` names the engine and the differences of protocol. Spheres, a rectangular
+        cell, "axisymmetric" or "plane_strain" only; no ``run_file``.
+    ranks : int
+        ``engine="lammps"``: MPI ranks (``mpirun -np ranks``).
+    lammps_dir : path, optional
+        ``engine="lammps"``: the folder of LAMMPS's files (kept); a temporary one otherwise.
 
     Returns
     -------
@@ -338,6 +359,14 @@ def triaxial(assembly: Assembly, kind: str, *, pressure: float, axial_strain: fl
                           max_time=max_time, consolidation=consolidation, method=method,
                           inertial_number=inertial_number, damping=damping, density=density,
                           record_every=record_every, peak_window=peak_window, cell=cell)
+    check_engine(engine, method, run_file, ranks, lammps_dir)
+    if engine == "lammps":
+        from ._lammps import lammps_triaxial
+        return lammps_triaxial(assembly, kind, pressure=p, axial_strain=a, ranks=ranks,
+                               lammps_dir=lammps_dir, progress=progress, max_time=max_time,
+                               consolidation=consolidation, inertial_number=inertial_number,
+                               damping=damping, density=density, record_every=record_every,
+                               peak_window=peak_window, failure_slope=failure_slope, cell=cell)
     if method == "dem":
         from ._dem import dem_triaxial
         return dem_triaxial(assembly, kind, pressure=p, axial_strain=a, failure_slope=failure_slope,

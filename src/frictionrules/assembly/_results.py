@@ -8,7 +8,7 @@ import numpy as np
 
 from ._contacts import ContactSet
 
-__all__ = ["SampleState", "ContactSnapshot", "TriaxialResult", "EnergyTerms"]
+__all__ = ["SampleState", "ContactSnapshot", "TriaxialResult", "EnergyTerms", "snapshot"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -217,3 +217,16 @@ class TriaxialResult:
         return (f"TriaxialResult(kind={self.kind!r}, increments={len(self.converged) - 1}, "
                 f"peak_ratio={self.peak_ratio:.6g}, peak_friction_angle={self.peak_friction_angle:.4g}, "
                 f"failed={self.failed}, message={self.message!r})")
+
+
+def snapshot(contacts: ContactSet) -> ContactSnapshot:
+    """The :class:`ContactSnapshot` of contacts (forces from their states where the increment
+    left none)."""
+    force, status = contacts.force, contacts.status
+    if force is None:
+        force = np.zeros((contacts.size, 3))
+        for g, model in enumerate(contacts.models):
+            force[contacts.members(g)] = model.force(contacts.states[g])
+        status = np.where(force[:, 2] > 0, 0, 2)
+    return ContactSnapshot(np.stack((contacts.i, contacts.j), axis=1), contacts.shift, contacts.frames,
+                           force, contacts.per_contact("plastic"), status, contacts.states, contacts.group)

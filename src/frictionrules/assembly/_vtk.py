@@ -95,7 +95,8 @@ def _collection(entries) -> str:
     return '<?xml version="1.0"?>\n' + ET.tostring(root, encoding="unicode") + "\n"
 
 
-def write_vtk(result, folder, *, every: int = 1, wrap: bool = True) -> tuple[Path, ...]:
+def write_vtk(result, folder, *, every: int = 1, wrap: bool = True,
+              radii=None) -> tuple[Path, ...]:
     r"""Write the grains, contacts and cell of a dynamic run's records as VTK files for
     ParaView: ``grains.pvd``, ``contacts.pvd`` and ``cell.pvd`` in ``folder``, each a time
     series of one ``.vtu`` file per record written.
@@ -121,6 +122,9 @@ def write_vtk(result, folder, *, every: int = 1, wrap: bool = True) -> tuple[Pat
     wrap : bool
         Move the grains' centres into the cell by whole cell vectors (the sample stays a box);
         False draws them where the engine carried them.
+    radii : array (n,), optional
+        The grains' radii; by default those of the engine's state (``result.engine``). A run of
+        ``engine="lammps"`` keeps no engine state: pass ``assembly.radii``.
 
     Returns
     -------
@@ -146,7 +150,16 @@ def write_vtk(result, folder, *, every: int = 1, wrap: bool = True) -> tuple[Pat
     folder.mkdir(parents=True, exist_ok=True)
     count = len(result.positions)
     chosen = sorted(set(range(0, count, int(every))) | {count - 1})
-    radii = np.asarray(result.engine.grains.radius, float)  # the engine's state has the radii
+    if radii is None:
+        if getattr(result, "engine", None) is None:
+            raise FrictionRulesError("radii = None violates: the grains' radii for a result "
+                                     "without the engine's state (engine='lammps': "
+                                     "assembly.radii)")
+        radii = result.engine.grains.radius  # the engine's state has the radii
+    radii = np.asarray(radii, float)
+    if radii.shape != (result.positions.shape[1],):
+        raise FrictionRulesError(f"radii of shape {radii.shape} violates: one radius per grain "
+                                 f"({result.positions.shape[1]})")
     x0 = result.positions[0]
     entries = {name: [] for name in VTK_SERIES}
     for k in chosen:

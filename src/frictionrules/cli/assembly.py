@@ -1,7 +1,9 @@
 """``frictionrules assembly CONFIG.toml --out run.h5``: load a grain assembly (sample, laws,
 loading from TOML), writing the HDF5 run file as the run goes; a run file that exists is
-resumed. ``method = "dem"`` in ``[loading]`` runs the dynamic engine. With seeds (``--seeds``
-or ``[sample] seeds``) an ensemble of random samples runs (``_ensemble``), ``--out`` its run
+resumed. ``method = "dem"`` in ``[loading]`` runs the dynamic engine; ``--engine lammps``
+(or ``engine = "lammps"`` in ``[loading]``) runs the same test in LAMMPS on ``--ranks`` MPI
+ranks (no run file: LAMMPS's files go to ``--lammps-dir``). With seeds (``--seeds`` or
+``[sample] seeds``) an ensemble of random samples runs (``_ensemble``), ``--out`` its run
 folder."""
 
 from __future__ import annotations
@@ -20,12 +22,21 @@ def register(sub) -> None:
                     "increment (record) to the HDF5 run file (--out; an existing file of the same "
                     "run resumes) and print the peak. With seeds (--seeds or [sample] seeds), an "
                     "ensemble: one run per seed in the folder --out, the means with their 95 % "
-                    "confidence intervals printed and written. See docs/assembly.md.",
+                    "confidence intervals printed and written. --engine lammps runs the dynamic "
+                    "test in LAMMPS on --ranks MPI ranks instead (docs/assembly.md, \"LAMMPS\").",
         epilog="example: frictionrules assembly examples/assembly_fcc.toml --out fcc.h5 --figure fcc.png")
     p.add_argument("config", metavar="CONFIG.toml", help="run description")
-    p.add_argument("--out", metavar="RUN.h5", required=True,
-                   help="HDF5 run file (.h5, .hdf5); with seeds, a folder: one run file per seed "
-                        "and the summary (summary.csv, summary.json)")
+    p.add_argument("--out", metavar="RUN.h5", help="HDF5 run file (.h5, .hdf5); with seeds, a "
+                   "folder: one run file per seed and the summary (summary.csv, summary.json); "
+                   "required but with --engine lammps, which keeps its files in --lammps-dir")
+    p.add_argument("--engine", choices=("frictionrules", "lammps"),
+                   help="method \"dem\": our engine (the default) or the same test in LAMMPS "
+                   "(overrides engine in [loading]; implies method = \"dem\")")
+    p.add_argument("--ranks", type=positive_int, metavar="N",
+                   help="--engine lammps: MPI ranks (mpirun -np N; overrides ranks in [loading])")
+    p.add_argument("--lammps-dir", metavar="FOLDER",
+                   help="--engine lammps: keep LAMMPS's files (input, data, records, log) here "
+                   "(a temporary folder otherwise)")
     p.add_argument("--figure", metavar="FILE", help="stress ratio and volumetric strain against "
                    "axial strain; method \"dem\": also the coordination, the sliding fraction and "
                    "the force network at the last record (.png, .svg, .pdf)")
@@ -76,16 +87,32 @@ def run(args) -> int:
     figure = check_output(args.figure, FIGURE_SUFFIXES, name="--figure") if args.figure else None
     vtk = check_folder(args.vtk, name="--vtk") if args.vtk else None
     if args.seeds is not None or _lists_seeds(args.config):
+        if args.engine == "lammps" or args.ranks is not None or args.lammps_dir is not None:
+            raise FrictionRulesError("--engine lammps violates: not with seeds (an ensemble runs "
+                                     "our engine; run LAMMPS once per sample)")
+        if args.out is None:
+            raise FrictionRulesError("--out is required (with seeds: the ensemble's run folder)")
         from ._ensemble import run_ensemble
         return run_ensemble(args, figure)
     if args.workers or args.scheduler:
         raise FrictionRulesError("--workers/--scheduler: constraint: an ensemble (--seeds or "
                                  "[sample] seeds)")
     prefer_openmp()  # this process runs the engine and does not fork
-    out = check_output(args.out, (".h5", ".hdf5"))
     with _common.progress(args, "assembly", unit="increments") as bar:
         bar.phase("preparing the sample")
         (assembly,), _, loading = read_samples(args.config, progress=bar)
+        lammps = _engine_options(args, loading)
+        out = None
+        if lammps:
+            if args.out is not None:
+                raise FrictionRulesError(f"--out = {args.out!r} violates: not with --engine "
+                                         "lammps (run files hold our engine's state; LAMMPS "
+                                         "keeps its files in --lammps-dir)")
+        elif args.out is None:
+            raise FrictionRulesError("--out is required (the HDF5 run file; --engine lammps "
+                                     "keeps its files in --lammps-dir instead)")
+        else:
+            out = check_output(args.out, (".h5", ".hdf5"))
         dem = loading.get("method", "implicit") == "dem"
         if vtk is not None and not dem:
             raise FrictionRulesError(f"--vtk = {args.vtk!r} needs method = \"dem\" in [loading] of "
@@ -95,19 +122,24 @@ def run(args) -> int:
             bar.phase("")  # the engine names its own stages
         else:
             bar(0, loading.get("increments", 100))
-        result = triaxial(assembly, run_file=out, max_time=args.max_time, progress=bar, **loading)
+        if out is not None:
+            loading["run_file"] = out
+        result = triaxial(assembly, max_time=args.max_time, progress=bar, **loading)
     if dem:
         print(_dem_summary(assembly, result))
     else:
         print(f"{assembly.size} grains, {len(result.converged) - 1} increments ({result.message}); "
               f"{_strength(result)}; final volumetric strain {result.volumetric_strain[-1]:.6g}")
-    print(f"wrote {out}")
+    if out is not None:
+        print(f"wrote {out}")
+    elif args.lammps_dir is not None:
+        print(f"LAMMPS's files in {args.lammps_dir}")
     if figure is not None:
         _figure(args, result, assembly, figure, dem)
         print(f"wrote {figure}")
     if vtk is not None:
         from ..assembly import write_vtk
-        files = write_vtk(result, vtk, every=args.vtk_every)
+        files = write_vtk(result, vtk, every=args.vtk_every, radii=assembly.radii)
         print(f"wrote {', '.join(str(f) for f in files)}")
     return _exit_code(result, dem)
 
@@ -119,11 +151,35 @@ def _lists_seeds(config) -> bool:
     return isinstance(sample, dict) and "seeds" in sample
 
 
+def _engine_options(args, loading: dict) -> bool:
+    """``--engine``, ``--ranks``, ``--lammps-dir`` into the keyword arguments of ``triaxial``
+    (the options override [loading]); True for the LAMMPS engine."""
+    from ..errors import FrictionRulesError
+    if args.engine is not None:
+        loading["engine"] = args.engine
+        if args.engine == "lammps":
+            if loading.get("method", "dem") != "dem":
+                raise FrictionRulesError(f"--engine lammps violates: method = \"dem\" in "
+                                         f"[loading] of {args.config} (method = "
+                                         f"{loading['method']!r})")
+            loading["method"] = "dem"
+    lammps = loading.get("engine", "frictionrules") == "lammps"
+    for name, value in (("--ranks", args.ranks), ("--lammps-dir", args.lammps_dir)):
+        if value is not None and not lammps:
+            raise FrictionRulesError(f"{name} = {value!r} violates: an option of --engine lammps")
+    if args.ranks is not None:
+        loading["ranks"] = args.ranks
+    if args.lammps_dir is not None:
+        loading["lammps_dir"] = args.lammps_dir
+    return lammps
+
+
 def _exit_code(result, dem: bool) -> int:
     """1 for a run that did not finish its test, else 0."""
     if dem:
         # a run stopped (max_time) before its peak did not find the strength it was run for
-        return 0 if result.converged[-1] and (result.failed or result.message == "completed") else 1
+        done = result.failed or result.message.startswith("completed")
+        return 0 if result.converged[-1] and done else 1
     # a run that stopped at an increment that did not converge did not finish its test
     return 0 if result.converged[-1] else 1
 
@@ -155,7 +211,7 @@ def _strength(result) -> str:
     good = result.converged
     reached = (f"axial strain {result.axial_strain[good][-1]:.6g} (largest σ1/σ3 "
                f"{result.stress_ratio[good].max():.6g})")
-    if result.message == "completed":
+    if result.message.startswith("completed"):
         return f"no peak up to {reached}"
     return f"no peak reached before the run stopped at {reached}"
 
@@ -177,15 +233,20 @@ def _dem_summary(assembly, result) -> str:
     else:
         reached = (f"axial strain {result.axial_strain[-1]:.6g} (largest σ1/σ3 "
                    f"{result.stress_ratio.max():.6g})")
-        strength = (f"no peak up to {reached}" if result.message == "completed"
+        strength = (f"no peak up to {reached}" if result.message.startswith("completed")
                     else f"no peak reached before the run stopped at {reached}")
     if len(result.time) == 1:
         return f"{head}; {strength}"
     z = result.coordination[-1]
     zm = result.coordination_without_rattlers[-1]
-    return (f"{head}; {strength}\n"
+    sliding = result.sliding_fraction[-1]
+    text = (f"{head}; {strength}\n"
             f"at axial strain {result.axial_strain[-1]:.6g}: σ1/σ3 {result.stress_ratio[-1]:.6g} "
             f"(friction angle {_angle(result.stress_ratio[-1]):.4g} deg), volumetric strain "
             f"{result.volumetric_strain[-1]:.6g}, Z {z:.4g} ({zm:.4g} without rattlers), "
-            f"sliding fraction {result.sliding_fraction[-1]:.3g}\n"
+            + (f"sliding fraction {sliding:.3g}" if math.isfinite(sliding) else
+               "no sliding fraction (not offered by the pair style)"))
+    if result.energy is None:
+        return text
+    return (f"{text}\n"
             f"energy balance: error {100 * result.energy.relative_error:.3g} % of the boundary work")
