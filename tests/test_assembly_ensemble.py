@@ -219,6 +219,15 @@ def test_repeated_run_in_a_run_folder_is_refused(samples, tmp_path):
         ensemble([samples[0], samples[0]], "biaxial", run_folder=tmp_path, **RUN)
 
 
+def test_lammps_runs_keep_no_run_folder(samples, tmp_path, monkeypatch):
+    from frictionrules.assembly import _ensemble
+    monkeypatch.setattr(_ensemble, "_run_one", lambda task: pytest.fail("a run started"))
+    with pytest.raises(FrictionRulesError, match="run_folder = .* violates: None for engine = 'lammps'"):
+        ensemble(samples, "biaxial", run_folder=tmp_path, engine="lammps", **RUN)
+    with pytest.raises(FrictionRulesError, match="ranks = 2 violates"):
+        ensemble(samples, "biaxial", ranks=2, **RUN)
+
+
 def test_a_failing_run_is_kept_as_failed_and_the_others_go_on(samples, monkeypatch):
     from frictionrules.assembly import _ensemble
     real = _ensemble.triaxial
@@ -310,6 +319,7 @@ def test_cli_seeds_prints_and_writes_the_summary_and_figure(tmp_path, serial):
     ([], "seeds = []", "seeds = [] violates: a non-empty list"),
     ([], "seeds = [1]\nseed = 2", "seed and seeds violates: one of them"),
     (["--workers", "2"], "", "--workers/--scheduler: constraint: an ensemble"),
+    (["--seeds", "1,2", "--engine", "lammps"], "", "--engine lammps violates: not with seeds"),
 ])
 def test_cli_bad_seeds_exit_2_with_one_line(tmp_path, extra, toml_seeds, message):
     cfg = tmp_path / "ens.toml"

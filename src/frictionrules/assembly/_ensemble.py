@@ -332,6 +332,9 @@ def ensemble(assemblies, kind: str, *, executor=None, run_folder=None,
         for s, assembly in enumerate(assemblies):
             full = {**defaults, **fixed, **point}
             check_triaxial(assembly, kind, max_time=max_time, **full)
+            if folder is not None and full["engine"] == "lammps":
+                raise FrictionRulesError(f"run_folder = {str(run_folder)!r} violates: None for "
+                                         "engine = 'lammps' (run files hold our engine's state)")
             key = (_model_label(assembly), json.dumps(point, sort_keys=True, default=repr))
             condition = keys.setdefault(key, len(keys))
             run_file = None

@@ -229,7 +229,8 @@ def check_kind(kind: str, dim: int) -> None:
 def check_triaxial(assembly: Assembly, kind: str, *, pressure: float, axial_strain: float,
                    increments, consolidation_increments, rtol, max_cuts, failure_slope, max_time,
                    consolidation: str, method: str, inertial_number, damping, density,
-                   record_every, peak_window, cell: str) -> tuple[float, float]:
+                   record_every, peak_window, cell: str, engine: str = "frictionrules",
+                   ranks=1, lammps_dir=None, run_file=None) -> tuple[float, float]:
     """The arguments of :func:`triaxial` checked as it checks them before it runs (the options
     of the method that runs; those of the other are ignored, as by :func:`triaxial`); returns
     the pressure and the axial strain as floats. :func:`ensemble` checks every run with it
@@ -239,6 +240,7 @@ def check_triaxial(assembly: Assembly, kind: str, *, pressure: float, axial_stra
     p = check_scalar("pressure", pressure, lo=0.0, lo_open=True)
     a = check_scalar("axial_strain", axial_strain, lo=0.0, lo_open=True, hi=0.5)
     check_method(method)
+    check_engine(engine, method, run_file, ranks, lammps_dir)
     _check_common(failure_slope, max_time)
     consolidation_of(assembly, consolidation)
     if method == "dem":
@@ -358,8 +360,8 @@ def triaxial(assembly: Assembly, kind: str, *, pressure: float, axial_strain: fl
                           rtol=rtol, max_cuts=max_cuts, failure_slope=failure_slope,
                           max_time=max_time, consolidation=consolidation, method=method,
                           inertial_number=inertial_number, damping=damping, density=density,
-                          record_every=record_every, peak_window=peak_window, cell=cell)
-    check_engine(engine, method, run_file, ranks, lammps_dir)
+                          record_every=record_every, peak_window=peak_window, cell=cell,
+                          engine=engine, ranks=ranks, lammps_dir=lammps_dir, run_file=run_file)
     if engine == "lammps":
         from ._lammps import lammps_triaxial
         return lammps_triaxial(assembly, kind, pressure=p, axial_strain=a, ranks=ranks,
