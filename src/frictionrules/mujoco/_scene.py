@@ -95,6 +95,8 @@ class Scene:
         self.names = [mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, i) or f"geom {i}"
                       for i in range(self.ngeom)]
         self._cache: dict[int, object] = {}
+        from ._assemble import Trees
+        self.trees = Trees(model)
 
     def _key(self, a: int, b: int) -> int:
         return min(a, b) * self.ngeom + max(a, b)
