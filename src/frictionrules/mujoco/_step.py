@@ -164,9 +164,12 @@ def _advance(mujoco, model, data, scene: Scene, previous, p: _Params) -> StepRes
         data.qfrc_constraint[:] = 0.0
     else:
         laws = scene.laws_of(A.geom1, A.geom2)
-        first = laws[0]
-        mu = first if all(law is first for law in laws) else laws
-        problem = FrictionContactProblem(A.W, A.q, mu)
+        last = scene.problem
+        if last is not None and last[0] is laws:
+            problem = last[1].renewed(A.W, A.q)     # the laws' reduction kept
+        else:
+            problem = FrictionContactProblem(A.W, A.q, laws)
+        scene.problem = (laws, problem)
         r0, warm = _warm_start(previous, A, h, scene.ngeom, p.warm_distance)
         sol = solve(problem, p.method, p.tol, p.max_iter, r0=r0)
         r = sol.r.reshape(nc, 3)
