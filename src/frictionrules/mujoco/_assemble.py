@@ -40,7 +40,7 @@ import numpy as np
 
 from ..errors import FrictionRulesError
 
-__all__ = ["assemble", "AXIS_NORMAL_TOL", "Assembled"]
+__all__ = ["assemble", "AXIS_NORMAL_TOL", "Assembled", "Trees"]
 
 #: Below this length of the unit axis projected on the contact plane, MuJoCo's frame is kept.
 AXIS_NORMAL_TOL = 1e-6

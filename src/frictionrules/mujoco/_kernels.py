@@ -80,23 +80,31 @@ def delassus(rows, rowadr, rownnz, colind, jdata, dof_tree, tree_dofadr, tree_do
         m = tptr[t + 1] - tptr[t]
         woff[t + 1] = woff[t] + m * m
     wt = np.zeros(woff[ntree])
+    mmax, ndmax = 0, 0
+    for t in range(ntree):
+        mmax = max(mmax, tptr[t + 1] - tptr[t])
+        ndmax = max(ndmax, tree_dofnum[t])
+    JT = np.empty((mmax, ndmax))
+    BT = np.empty((mmax, ndmax))
     for t in range(ntree):
         m = tptr[t + 1] - tptr[t]
         if m == 0:
             continue
         a, nd = tree_dofadr[t], tree_dofnum[t]
-        JT = np.zeros((m, nd))
+        JT[:m, :nd] = 0.0
         for l in range(m):
             r = rows[trows[tptr[t] + l]]
             for k in range(rowadr[r], rowadr[r] + rownnz[r]):
                 c = colind[k] - a
                 if 0 <= c < nd:
                     JT[l, c] += jdata[k]
-        MT = np.empty((nd, nd))
-        for c in range(nd):
+        # B_T = J_T M_T^-1, (M_T^-1)[c, cc] = X[cc, a + c]
+        for l in range(m):
             for cc in range(nd):
-                MT[c, cc] = X[cc, a + c]
-        BT = JT @ MT if nd > 0 else JT
+                acc = 0.0
+                for c in range(nd):
+                    acc += JT[l, c] * X[cc, a + c]
+                BT[l, cc] = acc
         base = woff[t]
         for l in range(m):
             for l2 in range(l, m):     # W_T is symmetric (M_T^-1 is)
