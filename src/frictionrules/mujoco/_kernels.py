@@ -114,10 +114,10 @@ def delassus(rows, rowadr, rownnz, colind, jdata, dof_tree, tree_dofadr, tree_do
                 wt[base + l * m + l2] = acc
                 wt[base + l2 * m + l] = acc
     # row i: the merge of its trees' rows of W_T (ascending), summed where both have a column
-    indptr = np.zeros(n + 1, np.int64)
+    indptr = np.zeros(n + 1, np.int32)        # SciPy's own index type for such sizes
     for i in range(n):
         indptr[i + 1] = indptr[i] + _merge_rows(trows, tptr, woff, wt, row_trees[i], loc[i], None, None, 0)
-    indices = np.empty(indptr[n], np.int64)
+    indices = np.empty(indptr[n], np.int32)
     data = np.empty(indptr[n])
     for i in range(n):
         _merge_rows(trows, tptr, woff, wt, row_trees[i], loc[i], indices, data, indptr[i])

@@ -62,7 +62,9 @@ __all__ = ["FrictionContactProblem", "Solution"]
 
 def _coerce_matrix(W):
     sp = require("scipy.sparse", extra="solvers")
-    if sp.issparse(W):
+    if type(W) is sp.csr_matrix and W.dtype == np.float64:
+        pass                        # its arrays are shared all the same: no new wrapper (a time step's W)
+    elif sp.issparse(W):
         W = sp.csr_matrix(W, dtype=float)
     else:
         arr = check_finite("W", W)
