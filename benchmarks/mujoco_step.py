@@ -1,11 +1,12 @@
 """Benchmark: a pile of 50 boxes stepped by ``frictionrules.mujoco`` against ``mj_step``.
 
-One command: ``python benchmarks/mujoco_step.py [--steps 200] [--rest-seconds 10] [--out FILE]``.
+One command: ``python benchmarks/mujoco_step.py [--steps 400] [--rounds 10] [--rest-seconds 10] [--out FILE]``.
 
 The pile (:func:`pile_xml`): 25 columns of two boxes (0.2 m, 1 kg) on a floor, the upper boxes
 shifted and turned at random (seed 0), every contact starting at ``dist = 0``; 50 free bodies,
 300 dofs, ``margin`` 2 mm, time step 2 ms, sparse Jacobian. Per step (CPU time of this
-thread, mean over ``--steps`` steps after 20 of warm-up, collision and dynamics included):
+thread, ``--steps`` steps in ``--rounds`` interleaved rounds after 20 of warm-up: the median
+and range over the rounds; collision and dynamics included):
 
 * ``mj_step`` (MuJoCo's Newton solver, its default);
 * :class:`frictionrules.mujoco.Simulator` with isotropic Coulomb ``mu = 0.5`` at every contact;
@@ -66,13 +67,21 @@ def non_associated_law():
                                                       "(TransformedCoulomb refused by this build)")
 
 
-def per_step(advance, steps: int) -> float:
-    for _ in range(20):
-        advance()
-    t0 = time.thread_time()
-    for _ in range(steps):
-        advance()
-    return (time.thread_time() - t0) / steps
+def interleaved(advance: dict, steps: int, rounds: int) -> dict:
+    """Per stepper, the CPU time per step of each round (each round: every stepper ``steps //
+    rounds`` steps, one after the other)."""
+    for f in advance.values():
+        for _ in range(20):
+            f()
+    out = {k: [] for k in advance}
+    per = max(1, steps // rounds)
+    for _ in range(rounds):
+        for k, f in advance.items():
+            t0 = time.thread_time()
+            for _ in range(per):
+                f()
+            out[k].append((time.thread_time() - t0) / per)
+    return out
 
 
 def breakdown(model, law, steps: int) -> dict:
@@ -97,7 +106,9 @@ def breakdown(model, law, steps: int) -> dict:
         t.append(time.thread_time())
         laws = sim._scene.laws_of(A.geom1, A.geom2)
         t.append(time.thread_time())
-        problem = fr.FrictionContactProblem(A.W, A.q, laws[0])
+        last = sim._scene.problem
+        problem = (last[1].renewed(A.W, A.q) if last is not None and last[0] is laws
+                   else fr.FrictionContactProblem(A.W, A.q, laws))
         t.append(time.thread_time())
         r0, _ = _step._warm_start(sim.last, A, h, sim._scene.ngeom, 0.01)
         t.append(time.thread_time())
@@ -120,7 +131,8 @@ def breakdown(model, law, steps: int) -> dict:
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--steps", type=int, default=200)
+    ap.add_argument("--steps", type=int, default=400)
+    ap.add_argument("--rounds", type=int, default=10)
     ap.add_argument("--rest-seconds", type=float, default=10.0)
     ap.add_argument("--out", default="mujoco_step")
     args = ap.parse_args(argv)
@@ -129,22 +141,29 @@ def main(argv=None):
     from frictionrules.mujoco import Simulator
     model = mujoco.MjModel.from_xml_string(pile_xml())
     law, law_name = non_associated_law()
-    runs = {}
-
     data = mujoco.MjData(model)
-    runs["mj_step (Newton, MuJoCo's default)"] = (per_step(lambda: mujoco.mj_step(model, data), args.steps),
-                                                  data.ncon, "", "")
+    steppers = {"mj_step (Newton, MuJoCo's default)": (lambda: mujoco.mj_step(model, data), None)}
     for name, entry in (("frictionrules, Coulomb mu = 0.5", MU), (f"frictionrules, {law_name}", law)):
         sim = Simulator(model, {}, default=entry)
-        t = per_step(sim.step, args.steps)
-        its = sim.last.solution.iterations
-        runs[name] = (t, sim.last.nc, f"{sim.unconverged}/{sim.steps}", f"{its} ({sim.last.solution.method})")
-    base = runs["mj_step (Newton, MuJoCo's default)"][0]
-    rows = [[name, f"{t * 1e3:.2f}", f"{t / base:.1f}", nc, unconv, its] for name, (t, nc, unconv, its) in runs.items()]
-    notes = [f"Per step: CPU time of this thread, mean of {args.steps} steps after 20 of warm-up, "
-             f"collision and dynamics included; {model.nbody - 1} boxes, {model.nv} dofs. The machine was shared "
-             "with other jobs (under load)."]
-
+        steppers[name] = (sim.step, sim)
+    times = interleaved({k: v[0] for k, v in steppers.items()}, args.steps, args.rounds)
+    base_name = "mj_step (Newton, MuJoCo's default)"
+    rows = []
+    for name, (_, sim) in steppers.items():
+        t = np.asarray(times[name])
+        ratio = t / np.asarray(times[base_name])      # round by round: the same load on both
+        if sim is None:
+            nc, unconv, its = data.ncon, "", ""
+        else:
+            nc, unconv = sim.last.nc, f"{sim.unconverged}/{sim.steps}"
+            its = f"{sim.last.solution.iterations} ({sim.last.solution.method})"
+        rows.append([name, f"{np.median(t) * 1e3:.3f} ({t.min() * 1e3:.3f}-{t.max() * 1e3:.3f})",
+                     f"{np.median(ratio):.1f} ({ratio.min():.1f}-{ratio.max():.1f})", nc, unconv, its])
+    notes = [f"Per step: CPU time of this thread; {args.rounds} rounds, in each round every stepper "
+             f"takes {args.steps // args.rounds} steps in turn (interleaved, so that each round's "
+             "load is shared); the median over the rounds and their range; x mj_step is the ratio "
+             f"within each round. 20 steps of warm-up each; collision and dynamics included; "
+             f"{model.nbody - 1} boxes, {model.nv} dofs. The machine was shared with other jobs (under load)."]
     parts = {name: breakdown(model, entry, args.steps) for name, entry in (("Coulomb", MU), (law_name, law))}
     stages = list(next(iter(parts.values())))
     notes.append("\nWhere the time of the library's step goes (CPU ms per step, each stage timed alone; "
@@ -172,7 +191,7 @@ def main(argv=None):
                  "| stepper | simulated s | largest box displacement (m) | largest |qvel| at the end | solves |\n"
                  "|---|---|---|---|---|\n" + "\n".join(rest))
     write_table(args.out, "MuJoCo pile of 50 boxes: frictionrules.mujoco against mj_step",
-                ["stepper", "ms / step", "x mj_step", "contacts", "unconverged / steps", "last solve iterations"],
+                ["stepper", "ms / step, median (range)", "x mj_step, median (range)", "contacts", "unconverged / steps", "last solve iterations"],
                 rows, "\n".join(notes))
 
 

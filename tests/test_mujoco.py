@@ -409,7 +409,7 @@ def test_incline_transformed_rule_turns_with_the_body(yaw):
                                     'cone="elliptic"'])
 def test_sparse_jacobian_implicit_integrators_and_cones_step_alike(option):
     """The stack with a turned top box and axes on it, 20 steps: MuJoCo's sparse layout of
-    efc_J / efc_AR (the rows turned by sparse products), the implicit integrators (no damping
+    efc_J (the rows turned by sparse products), the implicit integrators (no damping
     here: the same update as Euler) and the elliptic cone give the default run's state."""
     def run(extra):
         xml = stack_xml(3).replace("<option ", f"<option {extra} ")
@@ -426,7 +426,7 @@ def test_sparse_jacobian_implicit_integrators_and_cones_step_alike(option):
 
 
 @pytest.mark.parametrize("jacobian", ["dense", "sparse"])
-def test_W_from_efc_AR_is_J_Minv_JT_and_q_is_the_free_velocity(jacobian):
+def test_W_from_efc_J_is_J_Minv_JT_and_q_is_the_free_velocity(jacobian):
     """Stage 2 against an independent product: ``J`` from ``mj_jac`` at each contact point in
     its frame (geom 2 minus geom 1), ``M^-1 J^T`` from ``mj_solveM``; ``W`` equals ``J M^-1 J^T``
     and ``q`` equals ``J (qvel + h qacc_smooth)`` plus the gap term."""
@@ -465,3 +465,74 @@ def test_a_step_without_contacts_is_mujocos_free_step():
     mujoco.mj_step(m, ref)
     assert res.nc == 0 and res.converged and res.solution is None
     assert data.qvel == pytest.approx(ref.qvel, abs=1e-15) and data.qvel[2] == pytest.approx(-G * 0.005)
+
+
+def articulated_xml():
+    """A two-link arm (hinge, then a ball joint) whose tip box touches the floor, a free box
+    beside it and a slider: kinematic trees of 4, 6 and 1 dofs (W's blocks from trees larger
+    than a free body's and from a tree touched by two contacts of different bodies)."""
+    return """
+<mujoco><option timestep="0.002" jacobian="sparse"/><size memory="8M"/>
+  <worldbody>
+    <geom name="floor" type="plane" size="5 5 .1" margin="0.002"/>
+    <body pos="0 0 0.5"><joint type="hinge" axis="0 1 0"/>
+      <geom type="capsule" fromto="0 0 0 0.3 0 -0.2" size="0.03" mass="1"/>
+      <body pos="0.3 0 -0.2"><joint type="ball"/>
+        <geom name="tip" type="box" pos="0 0 -0.2" size="0.1 0.1 0.1" mass="1" margin="0.002"/>
+      </body>
+    </body>
+    <body pos="0.5 0 0.1"><freejoint/><geom type="box" size="0.1 0.1 0.1" mass="1" margin="0.002"/></body>
+    <body pos="-0.6 0 0.1"><joint type="slide" axis="1 0 0"/>
+      <geom type="box" size="0.1 0.1 0.1" mass="1" margin="0.002"/></body>
+  </worldbody>
+</mujoco>"""
+
+
+def test_W_tree_by_tree_equals_the_dense_J_Minv_JT_of_an_articulated_model():
+    """:math:`W = J M^{-1} J^T` from the kernel (the blocks of :math:`M^{-1}` of each kinematic
+    tree from one ``mj_solveM``) against the dense product of all of ``efc_J`` with
+    ``mj_solveM`` of every row, on trees of 4 (hinge + ball), 6 (free) and 1 (slide) dofs, and
+    for a subset of the rows (the kernel's ``rows`` argument)."""
+    import scipy.sparse as sp
+
+    from frictionrules.mujoco import _assemble, _scene, _step
+    m = mujoco.MjModel.from_xml_string(articulated_xml())
+    data = mujoco.MjData(m)
+    data.qpos[0] = 0.3                      # lower the arm onto the floor
+    mujoco.mj_forward(m, data)
+    for _ in range(200):                    # let it settle so that several bodies touch
+        mujoco.mj_step(m, data)
+    _step._forward(mujoco, m, data)
+    assert data.nefc >= 9 and m.ntree == 3
+    J = np.zeros((data.nefc, m.nv))
+    mujoco.mju_sparse2dense(J, data.efc_J, data.efc_J_rownnz, data.efc_J_rowadr, data.efc_J_colind)
+    X = np.zeros_like(J)
+    mujoco.mj_solveM(m, data, X, J.copy())
+    dense = J @ X.T
+    trees = _scene.Scene(mujoco, m, {}, default=0.5).trees
+    rows = np.arange(data.nefc)
+    W = _assemble._delassus(sp, mujoco, m, data, trees, rows).toarray()
+    assert np.abs(W - dense).max() <= 1e-13 * np.abs(dense).max()
+    some = rows[3:]
+    Ws = _assemble._delassus(sp, mujoco, m, data, trees, some).toarray()
+    assert np.abs(Ws - dense[np.ix_(some, some)]).max() <= 1e-13 * np.abs(dense).max()
+
+
+def test_warm_start_takes_the_nearest_previous_contact_of_the_pair_in_its_own_frame():
+    """Two previous contacts of the pair (0, 1) at x = 0 and x = 1 and one of (0, 2); a new
+    contact of (0, 1) at x = 0.9 takes the force of the one at x = 1, turned into its frame
+    (rows n, t1, t2) and times h; a new contact farther than ``distance`` from all of its
+    pair's gets nothing, and a tensile normal is cut to 0."""
+    from frictionrules.mujoco import _kernels
+    pos_old = np.array([[0.0, 0, 0], [1.0, 0, 0], [0.9, 0, 0]])
+    force_old = np.array([[1.0, 0, 0], [2.0, 3.0, 0], [5.0, 0, 0]])
+    key_old = np.array([1, 1, 2])
+    rot = np.array([[0.0, 1, 0], [0, 0, 1], [1, 0, 0]])        # n = world y, t1 = z, t2 = x
+    frames = np.stack([rot, np.eye(3), -np.eye(3)])
+    pos_new = np.array([[0.9, 0, 0], [5.0, 0, 0], [0.05, 0, 0]])
+    r0 = np.full((3, 3), np.nan)
+    count = _kernels.warm_start(np.array([1, 1, 1]), pos_new, frames, key_old, pos_old, force_old, 0.5, 0.2, r0)
+    assert count == 2
+    assert r0[0] == pytest.approx(0.5 * rot @ force_old[1])
+    assert r0[1] == pytest.approx([0.0, 0.0, 0.0])
+    assert r0[2] == pytest.approx([0.0, 0.0, 0.0])        # -h (1, 0, 0): tensile normal cut to 0

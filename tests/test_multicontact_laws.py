@@ -330,3 +330,30 @@ def test_cone_laws_on_the_law_path_equal_the_cone_path(law):
     assert both.converged and alone.converged
     assert np.linalg.norm(alone.u[1:]) > 1e-3 and alone.r[0] > 0      # sliding, compressed
     np.testing.assert_allclose(both.r[:3], alone.r, rtol=0, atol=1e-10)
+
+
+@pytest.mark.parametrize("laws", ["law path", "cone path"])
+def test_renewed_problem_is_the_fresh_problem_of_its_W_and_q(laws):
+    """``renewed(W, q)`` keeps the laws' reduction and replaces W and q: its solve is the
+    solve of a problem built anew from the same laws (the same bits), on the law path (a
+    different law at each contact) and on the cone path (an ellipse turned, Coulomb); a W or
+    q of another size is refused."""
+    W, q = random_problem(7, 4)
+    W2, q2 = random_problem(8, 4)
+    if laws == "law path":
+        mu = [LAWS[n][0] for n in LAWS]
+    else:
+        mu = [EllipticOrthotropic(0.3, 0.6, angle=0.4), Coulomb(0.5), 0.4, Coulomb(0.5)]
+    first = FrictionContactProblem(W, q, mu)
+    solve(first, tol=1e-12)                         # the law path's compiled set, built
+    again = first.renewed(W2, q2)
+    fresh = FrictionContactProblem(W2, q2, mu)
+    assert again.path == fresh.path and again.laws == fresh.laws
+    np.testing.assert_array_equal(again.mu_bar, fresh.mu_bar)
+    a, b = solve(again, tol=1e-12), solve(fresh, tol=1e-12)
+    assert a.converged and np.array_equal(a.r, b.r) and a.error == b.error
+    assert np.array_equal(first.q, q)               # the first problem is left as it was
+    with pytest.raises(FrictionRulesError, match="q has 9 entries"):
+        first.renewed(W2, q2[:9])
+    with pytest.raises(FrictionRulesError, match="W has shape"):
+        first.renewed(W2[:9, :9], q2[:9])

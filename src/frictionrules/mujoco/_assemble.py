@@ -14,11 +14,12 @@ q_{smooth} + M^{-1}J^T r / h)` gives
           + \tfrac1h\,\gamma\,e_N,
 
 ``r`` the contact impulses over the step (``r_N >= 0`` compression). ``q`` is MuJoCo's
-product ``mj_mulJacVec`` (and the impulses go back through ``mj_mulJacTVec``), ``W`` is read from
-MuJoCo's ``efc_AR - diag(efc_R)`` (``mj_fwdPosition`` fills ``efc_AR`` for MuJoCo's dual
-solvers: the step sets ``opt.solver`` to PGS for the forward stages and restores it), sparse
-or dense as the model's ``opt.jacobian`` makes it; no product runs in a Python loop over
-contacts.
+product ``mj_mulJacVec`` (and the impulses go back through ``mj_mulJacTVec``). ``W`` is
+:math:`J M^{-1} J^T` from ``efc_J`` (sparse or dense as the model's ``opt.jacobian`` makes it)
+and the blocks of :math:`M^{-1}` of the kinematic trees, all of them from one ``mj_solveM``
+(:mod:`._kernels`): what MuJoCo's ``efc_AR - diag(efc_R)`` holds for its dual solvers, without
+setting ``opt.solver`` to one of them (which made ``mj_fwdPosition`` three times dearer). No
+product runs in a Python loop over contacts.
 
 The gap term :math:`\gamma` (speculative contacts with a Baumgarte correction): a contact at
 the distance ``dist > 0`` may close it within the step (:math:`\gamma = ` ``dist``), a
@@ -39,7 +40,7 @@ import numpy as np
 
 from ..errors import FrictionRulesError
 
-__all__ = ["assemble", "AXIS_NORMAL_TOL", "Assembled"]
+__all__ = ["assemble", "AXIS_NORMAL_TOL", "Assembled", "Trees"]
 
 #: Below this length of the unit axis projected on the contact plane, MuJoCo's frame is kept.
 AXIS_NORMAL_TOL = 1e-6
@@ -52,8 +53,7 @@ _CONTACT_FRICTIONLESS = 5
 
 
 class Assembled:
-    """The problem's pieces: ``W`` (CSR, or a dense array as MuJoCo stores it; rows in the law
-    frames), ``q``; per
+    """The problem's pieces: ``W`` (CSR, rows in the law frames), ``q``; per
     contact the world frame rows ``frames`` (nc, 3, 3) of the law and ``mj_frames`` of
     MuJoCo, ``pos``, ``geom1``, ``geom2``, ``gap``; ``rows`` (3 nc,) the contacts' rows of
     MuJoCo's ``efc_*`` arrays; the count of axis fallbacks."""
@@ -85,33 +85,53 @@ def refuse_other_rows(mujoco, model, data) -> None:
                                  "takes condim=3 contacts only (the law gives the friction)")
 
 
-def _csr(sp, values, colind, rowadr, rownnz, shape):
-    n = shape[0]
-    indptr = np.empty(n + 1, dtype=np.int64)
-    indptr[0] = 0
-    np.cumsum(rownnz[:n], out=indptr[1:])
-    rowadr = np.asarray(rowadr[:n])
-    if n and not np.array_equal(rowadr, indptr[:-1]):
-        # rows not stored back to back: gather them (MuJoCo stores them so today)
-        idx = np.concatenate([np.arange(a, a + k) for a, k in zip(rowadr, rownnz[:n])])
-        return sp.csr_matrix((np.asarray(values)[idx], np.asarray(colind)[idx], indptr), shape=shape)
-    nnz = int(indptr[-1])
-    return sp.csr_matrix((np.array(values[:nnz]), np.array(colind[:nnz]), indptr), shape=shape)
+class Trees:
+    """A model's kinematic trees as :func:`._kernels.delassus` takes them (built once):
+    ``dof_tree`` (nv,), ``dofadr`` (ntree,), the right-hand sides ``rhs`` (m, nv) of the one
+    ``mj_solveM`` that gives every block of :math:`M^{-1}`."""
+
+    __slots__ = ("dof_tree", "dofadr", "dofnum", "rhs")
+
+    def __init__(self, model):
+        from ._kernels import minv_rhs
+        self.dof_tree = np.ascontiguousarray(model.dof_treeid, dtype=np.int64)
+        self.dofadr = np.ascontiguousarray(model.tree_dofadr, dtype=np.int64)
+        self.dofnum = num = np.ascontiguousarray(model.tree_dofnum, dtype=np.int64)
+        c = np.arange(self.dof_tree.size)
+        t = self.dof_tree
+        if not (np.all(t >= 0) and np.all(c >= self.dofadr[t]) and np.all(c < self.dofadr[t] + num[t])):
+            raise FrictionRulesError("the model's kinematic trees do not have contiguous dofs "
+                                     "(dof_treeid, tree_dofadr); frictionrules.mujoco needs them")
+        self.rhs = minv_rhs(self.dofadr, num, int(model.nv))
 
 
-def _delassus(sp, mujoco, model, data):
-    """``W = efc_AR - diag(efc_R)`` (nefc, nefc): CSR for a sparse model (``opt.jacobian``), a
-    dense array otherwise (MuJoCo's own layout)."""
-    nefc = int(data.nefc)
-    R = np.asarray(data.efc_R[:nefc])
+def _jacobian_csr(sp, mujoco, model, data):
+    """``(rowadr, rownnz, colind, values)`` of ``efc_J`` (MuJoCo's own arrays for a sparse
+    model; the dense ``efc_J`` converted, its zeros dropped)."""
+    nefc, nv = int(data.nefc), int(model.nv)
     if mujoco.mj_isSparse(model):
-        W = _csr(sp, data.efc_AR, data.efc_AR_colind, data.efc_AR_rowadr, data.efc_AR_rownnz, (nefc, nefc))
-        rows = np.repeat(np.arange(nefc), np.diff(W.indptr))
-        diag = W.indices == rows
-        W.data[diag] -= R[rows[diag]]
-        return W
-    W = np.array(data.efc_AR[:nefc * nefc]).reshape(nefc, nefc)
-    W[np.diag_indices(nefc)] -= R
+        return (np.asarray(data.efc_J_rowadr[:nefc], dtype=np.int64),
+                np.asarray(data.efc_J_rownnz[:nefc], dtype=np.int64),
+                np.asarray(data.efc_J_colind, dtype=np.int64), np.asarray(data.efc_J))
+    J = sp.csr_matrix(np.asarray(data.efc_J[:nefc * nv]).reshape(nefc, nv))
+    return (J.indptr[:-1].astype(np.int64), np.diff(J.indptr).astype(np.int64),
+            J.indices.astype(np.int64), J.data)
+
+
+def _delassus(sp, mujoco, model, data, trees: Trees, rows):
+    """:math:`W = J M^{-1} J^T` (CSR, ``rows`` x ``rows`` of MuJoCo's constraint rows) from
+    ``efc_J`` and one ``mj_solveM`` (:mod:`._kernels`): MuJoCo's ``efc_AR - diag(efc_R)``
+    without MuJoCo's dual solvers' ``mj_projectConstraint``."""
+    from ._kernels import delassus
+    X = np.empty_like(trees.rhs)
+    if X.size:
+        mujoco.mj_solveM(model, data, X, trees.rhs)
+    rowadr, rownnz, colind, values = _jacobian_csr(sp, mujoco, model, data)
+    indptr, indices, w = delassus(rows, rowadr, rownnz, colind, values, trees.dof_tree, trees.dofadr,
+                                 trees.dofnum, X)
+    n = rows.size
+    W = sp.csr_matrix((w, indices, indptr), shape=(n, n))
+    W.has_sorted_indices = True
     return W
 
 
@@ -119,11 +139,6 @@ def _rotate(sp, W, C):
     """``W' = Q W Q^T`` with ``Q`` block-diagonal, per contact ``[[1, 0], [0, C_a]]`` (``C_a``
     turns MuJoCo's tangents to the law's)."""
     nc = C.shape[0]
-    if not sp.issparse(W):
-        W4 = W.reshape(nc, 3, nc, 3).copy()
-        W4[:, 1:] = np.einsum("kij,kjlm->kilm", C, W4[:, 1:])
-        W4[:, :, :, 1:] = np.einsum("lij,kmlj->kmli", C, W4[:, :, :, 1:])
-        return W4.reshape(3 * nc, 3 * nc)
     blocks = np.zeros((nc, 3, 3))
     blocks[:, 0, 0] = 1.0
     blocks[:, 1:, 1:] = C
@@ -174,10 +189,8 @@ def assemble(sp, mujoco, model, data, scene, baumgarte: float) -> Assembled:
                                  f"has condim={int(dim[j])}; frictionrules.mujoco takes condim=3 only")
     geom1, geom2 = geom[:, 0].copy(), geom[:, 1].copy()
     rows = (addr[active][:, None] + np.arange(3)).ravel()
-    W = _delassus(sp, mujoco, model, data)
-    whole = rows.size == W.shape[0] and np.array_equal(rows, np.arange(rows.size))
-    if not whole:
-        W = W[rows][:, rows]
+    W = _delassus(sp, mujoco, model, data, scene.trees, rows)
+    whole = rows.size == int(data.nefc) and np.array_equal(rows, np.arange(rows.size))
     frames = np.asarray(con.frame[:ncon])[active].reshape(-1, 3, 3)
     owner = scene.axis_owner(geom1, geom2)
     law_frames, fallback = _law_frames(frames, owner, np.asarray(data.geom_xmat), scene.axes)

@@ -95,6 +95,12 @@ class Scene:
         self.names = [mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, i) or f"geom {i}"
                       for i in range(self.ngeom)]
         self._cache: dict[int, object] = {}
+        self._last_keys, self._last_laws = None, ()
+        #: the last step's problem and the laws tuple it was built with (renewed while the
+        #: contacts' laws are the same)
+        self.problem = None
+        from ._assemble import Trees
+        self.trees = Trees(model)
 
     def _key(self, a: int, b: int) -> int:
         return min(a, b) * self.ngeom + max(a, b)
@@ -116,8 +122,11 @@ class Scene:
         return law
 
     def laws_of(self, geom1: np.ndarray, geom2: np.ndarray) -> tuple:
-        """The law of each contact ``(geom1[i], geom2[i])``."""
+        """The law of each contact ``(geom1[i], geom2[i])``; the same tuple object as the last
+        call's when the contacts' pairs are the same (a step's problem is then renewed)."""
         keys = np.minimum(geom1, geom2) * self.ngeom + np.maximum(geom1, geom2)
+        if self._last_keys is not None and np.array_equal(keys, self._last_keys):
+            return self._last_laws
         cache = self._cache
         out = []
         for k, a, b in zip(keys.tolist(), geom1.tolist(), geom2.tolist()):
@@ -125,7 +134,8 @@ class Scene:
             if law is None:
                 law = cache[k] = self._resolve(a, b)
             out.append(law)
-        return tuple(out)
+        self._last_keys, self._last_laws = keys, tuple(out)
+        return self._last_laws
 
     def axis_owner(self, geom1: np.ndarray, geom2: np.ndarray) -> np.ndarray:
         """Per contact the geom whose axes set its law frame, or -1 (MuJoCo's frame)."""

@@ -4,9 +4,10 @@ The stages of a step (MuJoCo's own functions, the contact solve replaced):
 
 1. ``mj_fwdPosition``, ``mj_fwdVelocity``, ``mj_fwdActuation``, ``mj_fwdAcceleration``:
    collision, the contacts' constraint rows, the smooth acceleration :math:`\ddot q_{smooth}`;
-   during these calls ``opt.solver`` is PGS, for which MuJoCo's ``mj_fwdPosition`` fills
-   ``efc_AR`` (its ``mj_projectConstraint``), and ``opt.cone`` elliptic, so that each contact
-   has the three rows of its frame; both are restored (a pyramidal model steps the same way);
+   during these calls ``opt.cone`` is elliptic, so that each contact has the three rows of its
+   frame, and ``opt.solver`` Newton (a primal solver: ``mj_fwdPosition`` then skips the
+   dual solvers' ``efc_AR``, which the step does not need); both are restored (a pyramidal
+   model steps the same way);
 2. the problem :math:`u = W r + q` of the contacts in the laws' frames (:mod:`._assemble`);
 3. :func:`frictionrules.solve` from the previous step's impulses (warm start);
 4. :math:`\ddot q = \ddot q_{smooth} + M^{-1}J^T r/h` (``mj_solveM``) and MuJoCo's integrator
@@ -91,37 +92,21 @@ class StepResult:
 
 def _warm_start(previous: StepResult | None, A, h: float, ngeom: int, distance: float):
     """Initial impulses ``(3 nc,)``: each contact takes the world force of the previous step's
-    contact of the same geom pair nearest to it, within ``distance``, in its own frame.
-    Vectorized over the contacts: the previous contacts sorted by pair, each new contact
-    compared with the (few) previous ones of its pair."""
+    contact of the same geom pair nearest to it, within ``distance``, in its own frame
+    (:func:`._kernels.warm_start`, compiled: the previous contacts sorted by pair, each new
+    contact compared with the few previous ones of its pair)."""
     nc = A.pos.shape[0]
     if previous is None or previous.nc == 0 or nc == 0:
         return None, 0
-    key_new = A.geom1 * ngeom + A.geom2
-    key_old = previous.geom1 * ngeom + previous.geom2
-    order = np.argsort(key_old, kind="stable")
-    sorted_keys = key_old[order]
-    lo = np.searchsorted(sorted_keys, key_new, "left")
-    hi = np.searchsorted(sorted_keys, key_new, "right")
-    group = int((hi - lo).max())
-    if group == 0:
+    from ._kernels import warm_start
+    r0 = np.empty((nc, 3))
+    count = warm_start(A.geom1.astype(np.int64) * ngeom + A.geom2, np.ascontiguousarray(A.pos, dtype=float),
+                       np.ascontiguousarray(A.frames), previous.geom1.astype(np.int64) * ngeom + previous.geom2,
+                       np.ascontiguousarray(previous.pos, dtype=float), np.ascontiguousarray(previous.force),
+                       float(h), float(distance), r0)
+    if count == 0:
         return None, 0
-    cand = lo[:, None] + np.arange(group)
-    valid = cand < hi[:, None]
-    idx = order[np.minimum(cand, sorted_keys.size - 1)]
-    diff = A.pos[:, None, :] - previous.pos[idx]
-    d2 = np.einsum("ijk,ijk->ij", diff, diff)
-    d2[~valid] = np.inf
-    best = np.argmin(d2, axis=1)
-    rows = np.arange(nc)
-    ok = d2[rows, best] <= distance * distance
-    if not ok.any():
-        return None, 0
-    j = idx[rows, best][ok]
-    r0 = np.zeros((nc, 3))
-    r0[ok] = np.einsum("kij,kj->ki", A.frames[ok], previous.force[j]) * h
-    r0[:, 0] = np.maximum(r0[:, 0], 0.0)
-    return r0.ravel(), int(ok.sum())
+    return r0.ravel(), int(count)
 
 
 class _Params:
@@ -149,7 +134,7 @@ def _forward(mujoco, model, data):
     full = [int(getattr(mujoco.mjtWarning, name)) for name in _FULL]
     before = [int(data.warning[i].number) for i in full]
     solver, cone = int(opt.solver), int(opt.cone)
-    opt.solver = mujoco.mjtSolver.mjSOL_PGS     # so that MuJoCo allocates and fills efc_AR
+    opt.solver = mujoco.mjtSolver.mjSOL_NEWTON  # no efc_AR (a dual solver's): W is built from efc_J
     opt.cone = mujoco.mjtCone.mjCONE_ELLIPTIC   # rows N, T1, T2 of each contact's frame
     try:
         mujoco.mj_fwdPosition(model, data)
@@ -161,8 +146,7 @@ def _forward(mujoco, model, data):
     for name, i, n in zip(_FULL, full, before):
         if int(data.warning[i].number) > n:
             raise FrictionRulesError(f"MuJoCo's arena was full ({name}): contacts or their rows were dropped; "
-                                     "give the model more memory (<size memory=\"64M\"/>: the step needs "
-                                     "efc_AR, nefc^2 entries at most)")
+                                     "give the model more memory (<size memory=\"64M\"/>)")
 
 
 def _advance(mujoco, model, data, scene: Scene, previous, p: _Params) -> StepResult:
@@ -180,9 +164,12 @@ def _advance(mujoco, model, data, scene: Scene, previous, p: _Params) -> StepRes
         data.qfrc_constraint[:] = 0.0
     else:
         laws = scene.laws_of(A.geom1, A.geom2)
-        first = laws[0]
-        mu = first if all(law is first for law in laws) else laws
-        problem = FrictionContactProblem(A.W, A.q, mu)
+        last = scene.problem
+        if last is not None and last[0] is laws:
+            problem = last[1].renewed(A.W, A.q)     # the laws' reduction kept
+        else:
+            problem = FrictionContactProblem(A.W, A.q, laws)
+        scene.problem = (laws, problem)
         r0, warm = _warm_start(previous, A, h, scene.ngeom, p.warm_distance)
         sol = solve(problem, p.method, p.tol, p.max_iter, r0=r0)
         r = sol.r.reshape(nc, 3)
@@ -210,7 +197,7 @@ def step(model, data, laws, axes=None, *, default=None, previous: StepResult | N
 
     MuJoCo keeps the model, collision, mass matrix and integration; the contact impulses are
     the solution of :class:`~frictionrules.FrictionContactProblem` :math:`u = W r + q` built
-    from MuJoCo's own ``efc_J`` and ``efc_AR`` (see ``docs/mujoco.md``).
+    from MuJoCo's own ``efc_J`` and ``mj_solveM`` (see ``docs/mujoco.md``).
 
     Parameters
     ----------

@@ -88,22 +88,26 @@ def law_set(problem) -> LawSet:
     if cached is not None:
         return cached
     from ..contact import compiled_law
-    compiled, index = {}, []
+    # each distinct law object once (its compiled law cached by value), spread by index
+    seen, keys, index = {}, [], np.empty(problem.nc, dtype=np.intp)
     for a, law in enumerate(problem.laws):
-        key = _as_law(law)
-        if key not in compiled:
+        k = ("mu", law) if isinstance(law, float) else id(law)     # a coefficient by its value
+        j = seen.get(k)
+        if j is None:
+            j = seen[k] = len(keys)
+            key = _as_law(law)
             check_law(key, a)
-            compiled[key] = compiled_law(key, 1.0, 1.0)
-        index.append(key)
-    width = max(c.row.size for c in compiled.values())
-    fn = np.empty((problem.nc, 4), dtype=np.int64)
-    rows = np.zeros((problem.nc, width))
-    for a, key in enumerate(index):
-        c = compiled[key]
-        fn[a] = c.fn
-        rows[a, :c.row.size] = c.row
-    dilatant = np.array([key.traits.normal_slip for key in index], dtype=np.bool_)
-    out = LawSet(fn, rows, dilatant, tuple(c.kernel for c in compiled.values()))
+            keys.append(key)
+        index[a] = j
+    compiled = [compiled_law(key, 1.0, 1.0) for key in keys]
+    width = max(c.row.size for c in compiled)
+    fn_u = np.array([c.fn for c in compiled], dtype=np.int64).reshape(len(keys), 4)
+    rows_u = np.zeros((len(keys), width))
+    for j, c in enumerate(compiled):
+        rows_u[j, :c.row.size] = c.row
+    fn, rows = fn_u[index], rows_u[index]
+    dilatant = np.array([key.traits.normal_slip for key in keys], dtype=np.bool_)[index]
+    out = LawSet(fn, rows, dilatant, tuple(c.kernel for c in compiled))
     problem.__dict__["_law_set"] = out
     return out
 

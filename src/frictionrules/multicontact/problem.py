@@ -62,7 +62,9 @@ __all__ = ["FrictionContactProblem", "Solution"]
 
 def _coerce_matrix(W):
     sp = require("scipy.sparse", extra="solvers")
-    if sp.issparse(W):
+    if type(W) is sp.csr_matrix and W.dtype == np.float64:
+        pass                        # its arrays are shared all the same: no new wrapper (a time step's W)
+    elif sp.issparse(W):
         W = sp.csr_matrix(W, dtype=float)
     else:
         arr = check_finite("W", W)
@@ -125,6 +127,39 @@ def _contact_states(state, laws):
     return states
 
 
+def _parameters(laws, states, nc: int):
+    """``(mu_bar, dilatancy, frames or None, general)`` of the contacts: each distinct law
+    object (and each distinct number) reduced once, its values spread to its contacts by index.
+    A contact with a state of its own is reduced at that state."""
+    from ._law_check import check_law
+    index = np.empty(nc, dtype=np.intp)
+    params, first, seen = [], [], {}
+    for a, (law, qa) in enumerate(zip(laws, states)):
+        key = (id(law), type(law)) if qa is None else a
+        j = seen.get(key)
+        if j is None:
+            j = seen[key] = len(params)
+            params.append(_law_params(law, a, qa))
+            first.append(a)
+        index[a] = j
+    general = any(x is None for x in params)
+    if general:
+        for x, a in zip(params, first):
+            if not isinstance(laws[a], (int, float, np.floating, np.integer)):
+                check_law(laws[a], a)
+    m = np.array([np.nan if x is None else x[0] for x in params])
+    d = np.array([np.nan if x is None else x[1] for x in params])
+    frames = None
+    if not general and any(x[2] is not None for x in params):
+        A = np.empty((len(params), 2, 2))
+        A[:] = np.eye(2)
+        for j, x in enumerate(params):
+            if x[2] is not None:
+                A[j] = x[2]
+        frames = A[index]
+    return m[index], d[index], frames, general
+
+
 class FrictionContactProblem:
     r"""Find ``r, u`` with :math:`u = W r + q` and the friction law of every contact.
 
@@ -179,41 +214,14 @@ class FrictionContactProblem:
         if len(laws) != self.nc:
             raise FrictionRulesError(f"mu has {len(laws)} entries; constraint: nc = {self.nc}")
         states = _contact_states(state, laws)
-        cache = {}
-        mbar, dil, frames = np.empty(self.nc), np.zeros(self.nc), np.empty((self.nc, 2, 2))
-        frames[:] = np.eye(2)
-        any_frame = False
-        general = False
-        for a, (law, qa) in enumerate(zip(laws, states)):
-            number = isinstance(law, (int, float, np.floating, np.integer))
-            key = None if number or qa is not None else id(law)
-            if key is not None and key in cache:
-                params = cache[key]
-            else:
-                params = _law_params(law, a, qa)
-                if key is not None:
-                    cache[key] = params
-            if params is None:
-                general = True
-                mbar[a], dil[a] = np.nan, np.nan
-                continue
-            m, d, A = params
-            mbar[a], dil[a] = m, d
-            if A is not None:
-                frames[a] = A
-                any_frame = True
+        mbar, dil, frames, general = _parameters(laws, states, self.nc)
         self.laws = tuple(float(x) if isinstance(x, (int, float, np.floating, np.integer)) else x
                           for x in laws)
         self.states = states
         self.mu_bar = mbar
         self.dilatancy = dil
-        self.frames = frames if any_frame and not general else None
+        self.frames = None if general else frames
         self.path = "law" if general else "cone"
-        if general:
-            for a, law in enumerate(self.laws):
-                if not isinstance(law, float):
-                    from ._law_check import check_law
-                    check_law(law, a)
         self.title = str(title)
 
     def __repr__(self) -> str:
@@ -247,6 +255,24 @@ class FrictionContactProblem:
         out = copy.copy(self)
         out.dilatancy = np.ones(self.nc)
         out.title = f"{self.title} (associated)" if self.title else "associated"
+        return out
+
+    def renewed(self, W, q) -> "FrictionContactProblem":
+        """The same contacts and laws with another ``W`` and ``q`` (a time step's next problem).
+
+        The laws' reduction (``mu_bar``, ``dilatancy``, ``frames``, the law path's compiled
+        set) is kept, not recomputed; ``W`` and ``q`` are checked as in the constructor and
+        must have the same size.
+        """
+        import copy
+        W = _coerce_matrix(W)
+        if W.shape[0] != 3 * self.nc:
+            raise FrictionRulesError(f"W has shape {W.shape}; constraint: 3 nc x 3 nc = {3 * self.nc} x {3 * self.nc}")
+        q = check_finite("q", q).ravel()
+        if q.size != 3 * self.nc:
+            raise FrictionRulesError(f"q has {q.size} entries; constraint: 3 nc = {3 * self.nc}")
+        out = copy.copy(self)
+        out.W, out.q = W, q
         return out
 
     def velocity(self, r) -> np.ndarray:
@@ -334,7 +360,7 @@ class Solution:
 
     @classmethod
     def _record(cls, r, u, error, iterations, converged, history, history_iterations, method, seconds, reason,
-                cpu_seconds) -> "Solution":
+                cpu_seconds, error_measure="fc3d") -> "Solution":
         """The same frozen record, every field given in order, built without the generated
         ``__init__`` (its per-field ``object.__setattr__`` was 1.1 µs of a 5 µs small solve)."""
         self = object.__new__(cls)
@@ -342,4 +368,5 @@ class Solution:
         d["r"], d["u"], d["error"], d["iterations"], d["converged"] = r, u, error, iterations, converged
         d["history"], d["history_iterations"], d["method"] = history, history_iterations, method
         d["seconds"], d["reason"], d["cpu_seconds"] = seconds, reason, cpu_seconds
+        d["error_measure"] = error_measure
         return self
