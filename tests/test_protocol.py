@@ -41,9 +41,13 @@ def test_contact_model_refuses_a_law_without_symbolic_form():
         ContactModel(facets, 100.0, 100.0)
 
 
-def test_problem_refuses_a_law_without_cone():
-    with pytest.raises(FrictionRulesError, match="lacks the capability 'cone'"):
-        FrictionContactProblem(np.eye(3), np.zeros(3), [Huber(0.3, 0.5)])
+def test_problem_takes_a_conical_law_without_cone_on_the_law_path():
+    """Huber's rule (1.16) has no capability 'cone' (its potential is not associated in the
+    sliding plane) but f and g are cones in (T, N): the many-contact problem takes it on the
+    law path; a law whose limit condition is not a cone is refused naming that property."""
+    assert FrictionContactProblem(np.eye(3), np.zeros(3), [Huber(0.3, 0.5)]).path == "law"
+    with pytest.raises(FrictionRulesError, match="not a cone in \\(T, N\\)"):
+        FrictionContactProblem(np.eye(3), np.zeros(3), [UserLaw("T1**2 + T2**2 - N**2")])
 
 
 def test_declared_capabilities_of_the_built_in_laws():
