@@ -88,7 +88,7 @@ def _shear_job(folder, affine):
              "neigh_modify every 1 delay 0 check yes", f"timestep {DT}",
              "compute pl all pair/local p1 p2 p3 p4", "thermo_style custom step"]
     if affine:
-        setup.append(f"pair_style frictionrules/coulomb affine yes")
+        setup.append("pair_style frictionrules/coulomb affine yes")
     return {"setup": setup, "local": "pl", "width": 4,
             "steps": [{"commands": ["run 1"]},
                       {"commands": [f"fix shear all deform 1 xy erate {RATE!r} remap x",
@@ -114,3 +114,21 @@ def test_affine_term_in_tangential_increment(built, tmp_path, affine):
     assert row[2] == 0.0 and row[0] == pytest.approx(KN * 0.01, rel=1e-3)
     # the force on the first sphere is the tangential force along +x (l = d e_y, b pulls a)
     np.testing.assert_allclose(out["f"][1][0][0], want, rtol=1e-12, atol=1e-12 * KT * DT)
+
+
+def test_affine_refused_with_remap_v(built, tmp_path):
+    """``remap v`` gives the velocities their streaming part: ``affine yes`` would count it twice,
+    and LAMMPS stops with one line."""
+    import subprocess
+    import sys
+
+    from _lammps_harness import DRIVER
+    install, folders = built
+    job, _ = _shear_job(folders["coulomb"], True)
+    job["steps"][1]["commands"][0] = job["steps"][1]["commands"][0].replace("remap x", "remap v")
+    (tmp_path / "job.json").write_text(__import__("json").dumps(job))
+    (tmp_path / "driver.py").write_text(DRIVER)
+    run = subprocess.run([sys.executable, "driver.py", "job.json", "r.npz"], cwd=tmp_path,
+                         env=install.env(), capture_output=True, text=True, timeout=120)
+    assert run.returncode != 0
+    assert "affine yes is for fix deform remap x, not remap v" in run.stdout + run.stderr

@@ -198,8 +198,8 @@ def lammps_readme(target, spec, written) -> str:
         "it the exported Coulomb law reproduces `gran/hooke/history` with no damping to "
         "round-off); `skin S` (default 0), a contact keeps its history until its gap exceeds "
         "S (below); `affine yes|no` (default no), the box's velocity gradient `L l` in the "
-        "tangential increment, for `fix deform ... remap x` only (not with `remap v` or "
-        "without deformation).",
+        "tangential increment, for `fix deform ... remap x` only (LAMMPS stops with "
+        "`remap v`, whose velocities carry it already).",
         "- `atom_style sphere`, `comm_modify vel yes` (ghost atoms carry velocities), "
         "`fix nve/sphere` (or another integrator of spheres with rotation).",
         "- `newton on` (LAMMPS's default) and `newton off` both work: with `newton off` a pair "

@@ -337,6 +337,8 @@ double FR_CLASS::init_one(int i, int j)
 void FR_CLASS::compute(int eflag, int vflag)
 {
   ev_init(eflag, vflag);
+  if (affine && domain->deform_vremap)    // the velocities carry the streaming part already
+    error->all(FLERR, "pair_style " FR_STYLE ": affine yes is for fix deform remap x, not remap v");
   // setup (the forces of a run's first step) commits nothing: the force of a contact is the
   // one of its last step, as LAMMPS's granular styles do
   const int commit = update->setupflag ? 0 : 1;
