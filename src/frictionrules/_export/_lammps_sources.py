@@ -581,6 +581,7 @@ void FR_CLASS::read_restart_settings(FILE *fp)
   affine = sizes[3];
   MPI_Bcast(axis, 3, MPI_DOUBLE, 0, world);
   MPI_Bcast(&skin, 1, MPI_DOUBLE, 0, world);
+  beyond_contact = skin > 0.0 ? 1 : 0;
   if (sizes[0] != FR_NPARAMS || sizes[1] != nhistory())
     error->all(FLERR, "pair_style " FR_STYLE ": the restart file was written by another law");
 }
