@@ -190,10 +190,14 @@ def test_disks_are_refused():
 def test_write_only_then_read(tmp_path):
     """The batch route: files written without running LAMMPS; nothing to read before the run."""
     need_lammps()
-    files = fr.write_lammps_triaxial(assembly(n=20), "axisymmetric", tmp_path, pressure=1.0,
+    grains = assembly(n=20)
+    files = fr.write_lammps_triaxial(grains, "axisymmetric", tmp_path, pressure=1.0,
                                      axial_strain=0.01)
     assert (tmp_path / "pair" / "pair.lmp").exists()
-    assert "pair_style frictionrules/coulomb axis 1.0 0.0 0.0" in files.input.read_text()
+    # our engine's skin (0.1 mean radius) and the affine term of fix deform ... remap x
+    skin = 0.1 * float(sum(grains.radii) / len(grains.radii))
+    assert (f"pair_style frictionrules/coulomb axis 1.0 0.0 0.0 skin {skin!r} affine yes"
+            in files.input.read_text())
     assert files.input.exists() and files.data.exists()
     assert files.steps % files.record_steps == 0 and files.steps // files.record_steps == 10
     script = files.input.read_text()

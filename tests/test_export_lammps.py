@@ -73,17 +73,19 @@ def turn(u, n0, n, angle):
 class Reference:
     """One contact of the DEM engine: the history as global vectors, :class:`ContactModel` for
     the law. ``step`` takes the two spheres' state and returns (T1, T2, N), the frame and the
-    update's result; atom 1 is the lower ID (the canonical orientation)."""
+    update's result; atom 1 is the lower ID (the canonical orientation). A contact keeps its
+    history until its gap exceeds ``skin`` (0: until it stops touching, LAMMPS's convention)."""
 
-    def __init__(self, law):
+    def __init__(self, law, skin=0.0):
         self.model = fr.ContactModel(law, kn=KN, kt=KT)
         self.state = None
+        self.skin = skin
 
     def step(self, x1, x2, v1, v2, w1, w2):
         l = np.subtract(x2, x1)
         dist = np.sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2])
         gap = dist - 2 * R
-        if gap >= 0.0:
+        if gap >= 0.0 and (self.state is None or not self.skin > 0.0 or gap > self.skin):
             self.state = None
             return None
         n = l / dist
@@ -169,9 +171,9 @@ def _job(folder, steps, swap=False):
     return job
 
 
-def _check(out, steps, law, swap=False):
+def _check(out, steps, law, swap=False, skin=0.0):
     """Every step's force and moments against :class:`Reference`; returns the statuses."""
-    ref = Reference(law)
+    ref = Reference(law, skin)
     first, second = 0, 1    # the atom of lower ID, the other
     statuses, diss = [], 0.0
     for k, (x2, v1, v2, w1, w2) in enumerate(steps):

@@ -196,14 +196,20 @@ def lammps_readme(target, spec, written) -> str:
         "`history project` (LAMMPS's `gran/hooke/history`: the stored displacements projected "
         "on the new contact plane, no twist, a new contact's first step already sliding; with "
         "it the exported Coulomb law reproduces `gran/hooke/history` with no damping to "
-        "round-off).",
+        "round-off); `skin S` (default 0), a contact keeps its history until its gap exceeds "
+        "S (below); `affine yes|no` (default no), the box's velocity gradient `L l` in the "
+        "tangential increment, for `fix deform ... remap x` only (LAMMPS stops with "
+        "`remap v`, whose velocities carry it already).",
         "- `atom_style sphere`, `comm_modify vel yes` (ghost atoms carry velocities), "
         "`fix nve/sphere` (or another integrator of spheres with rotation).",
         "- `newton on` (LAMMPS's default) and `newton off` both work: with `newton off` a pair "
         "straddling two ranks is computed on both, in the same canonical orientation.",
-        "- A pair touches while its gap `|x_j - x_i| - r_i - r_j` is negative; when it stops "
-        "touching its history is erased (the convention of LAMMPS's granular styles). There is "
-        "no cohesion beyond contact.",
+        "- A contact starts when the gap `|x_j - x_i| - r_i - r_j` is negative. By default its "
+        "history is erased when it stops touching (the convention of LAMMPS's granular "
+        "styles); with `skin S` it is kept until the gap exceeds S, so that a dilatant contact "
+        "whose plastic opening `dp_n` exceeds the gap still pushes, `N = -kn (gap - dp_n) > 0` "
+        "(the cutoff grows by S; LAMMPS's `beyond_contact`). There is no cohesion: an open "
+        "contact carries no force.",
         "- Give the `pair_style` (`include pair.lmp`) before any fix that moves atoms between "
         "ranks when it starts a step (`fix deform` with `remap`, `fix deform/pressure`): the "
         "pair style reserves the history fix's place in the list of fixes (LAMMPS stops "
@@ -218,7 +224,8 @@ def lammps_readme(target, spec, written) -> str:
         "axis is normal to the contact), `t2 = n × t1`;",
         "- the stored elastic tangential displacement turns with the contact: by the rotation "
         "taking the previous normal to `n`, then about `n` by `dt (ω_a + ω_b)·n / 2`;",
-        "- increment `Δδt = dt Q_t (v_b − v_a − (r_a ω_a + r_b ω_b) × n)`, "
+        "- increment `Δδt = dt Q_t (v_b − v_a [+ L l] − (r_a ω_a + r_b ω_b) × n)` (`L l` with "
+        "`affine yes`: `L = h_rate h_inv`, the box's velocity gradient, `l = x_b − x_a`), "
         "`Δδn = gap − (de_n + dp_n)`, passed to the law as `de_n = 0` and the increment "
         "`gap − dp_n` (the same trial) (a new contact: `Δδt = 0`, `Δδn = gap`, the law's "
         "initial internal variables);",

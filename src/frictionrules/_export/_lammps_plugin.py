@@ -143,6 +143,8 @@ class FR_CLASS : public Pair {
   class Fix *fix_history;    // the fix NEIGH_HISTORY holding every contact's history
   double axis[3];            // the frame's reference axis (unit)
   int project;               // history kept as LAMMPS's gran/hooke/history does (keyword)
+  double skin;               // a contact with a history lives until its gap exceeds it
+  int affine;                // add the box's velocity gradient L l to the increment
   double *coeffs;            // FR_NPARAMS values (kt, kn, law parameters) per type pair
   double maxrad;             // largest radius of any atom
   int stride;                // ntypes + 1 when allocated

@@ -28,17 +28,20 @@ PAIR_CPP = r"""/* pair_frictionrules.cpp -- a LAMMPS pair style running one fric
      global axis where the reference axis is normal to it), t2 = n x t1;
      the stored tangential displacements (global vectors of the old contact plane) turned by
      the rotation taking the old normal to n, then about n by dt (w_a + w_b).n / 2;
-     increment dt = dt Q_t (v_b - v_a - (r_a w_a + r_b w_b) x n), ddn = gap - (de_n + dp_n);
+     increment dt = dt Q_t (v_b - v_a [+ L l] - (r_a w_a + r_b w_b) x n), ddn = gap - (de_n + dp_n),
+     L = h_rate h_inv the box's velocity gradient (keyword affine yes: fix deform ... remap x);
      force on a: g = T1 t1 + T2 t2 - N n (N > 0 in compression), on b: -g; moment on either
      grain its radius times n x g.
-   A pair touches while gap < 0; a pair that stops touching loses its history (the convention
-   of LAMMPS's granular styles). The history is stored in the canonical orientation, so the
+   A pair starts touching at gap < 0; a contact keeps its history until its gap exceeds the
+   skin (keyword skin S, default 0: the convention of LAMMPS's granular styles), so that a
+   dilatant contact whose plastic opening dp_n exceeds its gap still pushes (N = -kn (gap - dp_n)). The history is stored in the canonical orientation, so the
    fix NEIGH_HISTORY's transfer to the other atom of the pair copies it (transfer_history). */
 
 #include "pair_frictionrules.h"
 
 #include "atom.h"
 #include "comm.h"
+#include "domain.h"
 #include "error.h"
 #include "fix.h"
 #include "force.h"
@@ -118,9 +121,9 @@ static inline void fr_last_force(const double *h, const double *p, double gap, c
 /* Velocity of b's contact point relative to a's, v_b - v_a - (r_a w_a + r_b w_b) x n, with
    v_b - v_a = sg (v_j - v_i) and W = r_i w_i + r_j w_j (the same for either orientation). */
 #define FR_RELATIVE_VELOCITY                                                           \
-  {sg * (v[j][0] - v[i][0]) - (W[1] * n[2] - W[2] * n[1]),                             \
-   sg * (v[j][1] - v[i][1]) - (W[2] * n[0] - W[0] * n[2]),                             \
-   sg * (v[j][2] - v[i][2]) - (W[0] * n[1] - W[1] * n[0])}
+  {sg * (v[j][0] - v[i][0]) + Ll[0] - (W[1] * n[2] - W[2] * n[1]),                     \
+   sg * (v[j][1] - v[i][1]) + Ll[1] - (W[2] * n[0] - W[0] * n[2]),                     \
+   sg * (v[j][2] - v[i][2]) + Ll[2] - (W[0] * n[1] - W[1] * n[0])}
 
 static inline void fr_frame(double nx, double ny, double nz, const double *axis, double *t1)
 {
@@ -159,7 +162,8 @@ static inline void fr_turn(const double *u, const double *m, double k, const dou
 }
 
 FR_CLASS::FR_CLASS(LAMMPS *lmp) :
-    Pair(lmp), fix_history(nullptr), project(0), coeffs(nullptr), maxrad(0.0), stride(0)
+    Pair(lmp), fix_history(nullptr), project(0), skin(0.0), affine(0), coeffs(nullptr),
+    maxrad(0.0), stride(0)
 {
   single_enable = 1;
   no_virial_fdotr_compute = 1;
@@ -201,7 +205,8 @@ void FR_CLASS::allocate()
   memory->create(coeffs, (n + 1) * (n + 1) * FR_NPARAMS, "pair:coeffs");
 }
 
-/* pair_style frictionrules/NAME [axis ax ay az] [history rotate|project] */
+/* pair_style frictionrules/NAME [axis ax ay az] [history rotate|project] [skin S]
+   [affine yes|no] */
 void FR_CLASS::settings(int narg, char **arg)
 {
   int iarg = 0;
@@ -231,9 +236,23 @@ void FR_CLASS::settings(int narg, char **arg)
         error->all(FLERR, "pair_style " FR_STYLE ": history rotate|project cannot change "
                           "once the pair style has run");
       iarg += 2;
+    } else if (strcmp(arg[iarg], "skin") == 0) {
+      if (iarg + 2 > narg) error->all(FLERR, "pair_style " FR_STYLE ": skin needs a length");
+      skin = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+      if (!(skin >= 0.0) || !std::isfinite(skin))
+        error->all(FLERR, "pair_style " FR_STYLE ": skin must be finite and >= 0");
+      // the neighbour lists keep the history of pairs beyond contact (NPair's history bit
+      // marks touching pairs only)
+      beyond_contact = skin > 0.0 ? 1 : 0;
+      iarg += 2;
+    } else if (strcmp(arg[iarg], "affine") == 0) {
+      if (iarg + 2 > narg) error->all(FLERR, "pair_style " FR_STYLE ": affine yes|no");
+      affine = utils::logical(FLERR, arg[iarg + 1], false, lmp);
+      iarg += 2;
     } else {
       error->all(FLERR, std::string("pair_style " FR_STYLE ": unknown keyword ") + arg[iarg]
-                        + " (keywords: axis ax ay az, history rotate|project)");
+                        + " (keywords: axis ax ay az, history rotate|project, skin S, "
+                          "affine yes|no)");
     }
   }
 }
@@ -312,12 +331,14 @@ double FR_CLASS::init_one(int i, int j)
   if (setflag[i][j] == 0)
     error->all(FLERR, "pair_style " FR_STYLE " does not mix: pair_coeff must be set for all "
                       "pairs of atom types (missing {} {})", i, j);
-  return 2.0 * maxrad;
+  return 2.0 * maxrad + skin;    // the neighbour list holds the contacts kept open
 }
 
 void FR_CLASS::compute(int eflag, int vflag)
 {
   ev_init(eflag, vflag);
+  if (affine && domain->deform_vremap)    // the velocities carry the streaming part already
+    error->all(FLERR, "pair_style " FR_STYLE ": affine yes is for fix deform remap x, not remap v");
   // setup (the forces of a run's first step) commits nothing: the force of a contact is the
   // one of its last step, as LAMMPS's granular styles do
   const int commit = update->setupflag ? 0 : 1;
@@ -339,6 +360,10 @@ void FR_CLASS::compute(int eflag, int vflag)
   fr_initial_state(virgin);
   const int onetype = atom->ntypes == 1;
   const int stride = nhistory();
+  // L = h_rate h_inv (upper triangular, Voigt order xx yy zz yz xz xy), with affine yes
+  const double *hr = domain->h_rate, *hi = domain->h_inv;
+  const double L[6] = {hr[0] * hi[0], hr[1] * hi[1], hr[2] * hi[2], hr[1] * hi[3] + hr[3] * hi[2],
+                       hr[0] * hi[4] + hr[5] * hi[3] + hr[4] * hi[2], hr[0] * hi[5] + hr[5] * hi[1]};
 
   for (int ii = 0; ii < inum; ii++) {
     const int i = ilist[ii];
@@ -351,9 +376,9 @@ void FR_CLASS::compute(int eflag, int vflag)
       const int j = jlist[jj] & NEIGHMASK;
       const double d0 = x[j][0] - xi0, d1 = x[j][1] - xi1, d2 = x[j][2] - xi2;
       const double rsq = d0 * d0 + d1 * d1 + d2 * d2;
-      const double rj = radius[j], radsum = ri + rj;
-      if (rsq >= radsum * radsum) {    // not touching: a later contact starts afresh
-        touch[jj] = 0;
+      const double rj = radius[j], radsum = ri + rj, reach = radsum + skin;
+      if (rsq >= radsum * radsum && (!touch[jj] || !(skin > 0.0) || rsq > reach * reach)) {
+        touch[jj] = 0;    // not touching, or opened beyond the skin: a later contact starts afresh
         continue;
       }
       double *h = allhist + static_cast<size_t>(stride) * jj;
@@ -379,6 +404,12 @@ void FR_CLASS::compute(int eflag, int vflag)
         inc[2] = gap;
         if (commit && (project || !fresh)) {
           // gran/hooke/history: the first step of a contact slides already
+          double Ll[3] = {0.0, 0.0, 0.0};
+          if (affine) {    // l = sg (x_j - x_i) = sg d
+            Ll[0] = sg * (L[0] * d0 + L[5] * d1 + L[4] * d2);
+            Ll[1] = sg * (L[1] * d1 + L[3] * d2);
+            Ll[2] = sg * L[2] * d2;
+          }
           const double u[3] = FR_RELATIVE_VELOCITY;
           inc[0] = dt * (u[0] * t1[0] + u[1] * t1[1] + u[2] * t1[2]);
           inc[1] = dt * (u[0] * t2[0] + u[1] * t2[1] + u[2] * t2[2]);
@@ -470,7 +501,7 @@ double FR_CLASS::single(int i, int j, int, int, double rsq, double, double, doub
   for (int k = 0; k < 4 + FR_NQ; k++) svector[k] = 0.0;
   fforce = 0.0;
   const double radsum = atom->radius[i] + atom->radius[j];
-  if (rsq >= radsum * radsum || fix_history == nullptr) return 0.0;
+  if (rsq >= (radsum + skin) * (radsum + skin) || fix_history == nullptr) return 0.0;
   auto view = static_cast<FR_HISTORY_FIX *>(fix_history);
   const int *jlist = list->firstneigh[i];
   const int jnum = list->numneigh[i];
@@ -531,21 +562,26 @@ void FR_CLASS::read_restart(FILE *fp)
 
 void FR_CLASS::write_restart_settings(FILE *fp)
 {
-  const int sizes[3] = {FR_NPARAMS, nhistory(), project};
-  fwrite(sizes, sizeof(int), 3, fp);
+  const int sizes[4] = {FR_NPARAMS, nhistory(), project, affine};
+  fwrite(sizes, sizeof(int), 4, fp);
   fwrite(axis, sizeof(double), 3, fp);
+  fwrite(&skin, sizeof(double), 1, fp);
 }
 
 void FR_CLASS::read_restart_settings(FILE *fp)
 {
-  int sizes[3] = {0, 0, 0};
+  int sizes[4] = {0, 0, 0, 0};
   if (comm->me == 0) {
-    utils::sfread(FLERR, sizes, sizeof(int), 3, fp, nullptr, error);
+    utils::sfread(FLERR, sizes, sizeof(int), 4, fp, nullptr, error);
     utils::sfread(FLERR, axis, sizeof(double), 3, fp, nullptr, error);
+    utils::sfread(FLERR, &skin, sizeof(double), 1, fp, nullptr, error);
   }
-  MPI_Bcast(sizes, 3, MPI_INT, 0, world);
+  MPI_Bcast(sizes, 4, MPI_INT, 0, world);
   project = sizes[2];
+  affine = sizes[3];
   MPI_Bcast(axis, 3, MPI_DOUBLE, 0, world);
+  MPI_Bcast(&skin, 1, MPI_DOUBLE, 0, world);
+  beyond_contact = skin > 0.0 ? 1 : 0;
   if (sizes[0] != FR_NPARAMS || sizes[1] != nhistory())
     error->all(FLERR, "pair_style " FR_STYLE ": the restart file was written by another law");
 }

@@ -3,8 +3,12 @@ LAMMPS's contacts.
 
 Exported (the default, any law with a symbolic form): the pair style
 ``frictionrules/<name>`` of ``export(law, "lammps", ..., build=True)``, compiled into the run's
-folder, with the contact kinematics of our engine and the assembly's reference axis; it offers
-``compute pair/local p1 p2 p3 p4`` = N, |T|, the sliding flag and the accumulated dissipation.
+folder, with the contact kinematics of our engine and the assembly's reference axis, our
+engine's skin (``skin``: a contact keeps its history, and a dilatant one its force, until its gap
+exceeds ``SKIN`` times the mean radius, as :func:`.._dem._passes.contact_range`) and the box's
+velocity gradient in the tangential increment (``affine yes``: the script's ``fix deform``
+remaps positions, not velocities); it offers ``compute pair/local p1 p2 p3 p4`` = N, |T|, the
+sliding flag and the accumulated dissipation.
 
 Built in (``pair_style="gran/hooke/history"``, what the benchmark compares against):
 ``pair_style gran/hooke/history kn kt 0 0 μ 0`` (GRANULAR: linear normal and
@@ -79,7 +83,9 @@ def pair_lines(assembly, folder=None, pair_style: str = "exported") -> PairLines
     law = model.effective_law
     frictionless = tuple(builtin_lines(model.kn, model.kt, 0.0))
     if pair_style == "exported":
-        lines = _exported(model, assembly.reference_axis, folder)
+        from .._dem._dynamics import SKIN
+        skin = SKIN * float(sum(assembly.radii) / len(assembly.radii))
+        lines = _exported(model, assembly.reference_axis, skin, folder)
         style = next(line.split()[1] for line in lines if line.startswith("pair_style"))
         return PairLines(frictionless, tuple(lines), True, f"{style} (exported)", "p1")
     mu = coulomb_mu(law)
@@ -91,9 +97,9 @@ def pair_lines(assembly, folder=None, pair_style: str = "exported") -> PairLines
                              "exported pair style (pair_style = 'exported')")
 
 
-def _exported(model, axis, folder) -> list[str]:
+def _exported(model, axis, skin, folder) -> list[str]:
     """``export(law, "lammps", folder/pair, build=True)``'s ``pair.lmp`` lines, the frame's
-    axis set to the assembly's reference axis."""
+    axis set to the assembly's reference axis, with ``skin`` and ``affine yes``."""
     from pathlib import Path
 
     from ..._export import export
@@ -102,5 +108,5 @@ def _exported(model, axis, folder) -> list[str]:
            build=True)
     lines = [line for line in (out / "pair.lmp").read_text().splitlines() if line.strip()]
     ax = " ".join(repr(float(a)) for a in axis)
-    return [line.replace(" axis 1.0 0.0 0.0", f" axis {ax}") if line.startswith("pair_style")
-            else line for line in lines]
+    return [line.replace(" axis 1.0 0.0 0.0", f" axis {ax} skin {skin!r} affine yes")
+            if line.startswith("pair_style") else line for line in lines]

@@ -376,11 +376,14 @@ def _message(folder: Path, opts: dict, ended: str, ranks) -> str:
              f"differences of protocol: {cons}",
              "box servo fix deform/pressure (proportional, gain "
              f"{opts['gain']:.3g}/time on the relative stress error, rate bounded as ours)",
-             "Cundall damping on the half-step velocity",
-             "affine part of the relative velocity not in the tangential history (remap x)",
-             "a contact's history erased when it opens (ours: kept within the skin)"]
-    if not opts["law_outputs"]:
-        parts.append("no sliding fraction or dissipation from this pair style")
+             "Cundall damping on the half-step velocity"]
+    if opts["law_outputs"]:    # the exported style: our skin and the affine term L l
+        parts.append("Z and the sliding fraction count overlapping pairs (a dilatant contact "
+                     "pushing with a positive gap is left out)")
+    else:
+        parts += ["affine part of the relative velocity not in the tangential history "
+                  "(remap x)", "a contact's history erased when it opens (ours: kept within "
+                  "the skin)", "no sliding fraction or dissipation from this pair style"]
     return "; ".join(parts)
 
 
