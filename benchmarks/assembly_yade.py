@@ -232,6 +232,10 @@ ENSEMBLE_KEYS = (("peak", "peak φ (°)", 2), ("end", "20–25 % φ (°)", 2), (
                  ("z", "Z (20–25 %)", 2))
 
 
+#: Axial strains the ensemble table gives ε_v at, besides the end.
+EV_STRAINS = (0.02, 0.05, 0.1, 0.15, 0.2)
+
+
 def _ci(values, digits):
     from frictionrules.assembly._statistics import interval
     ci = interval([v for v in values if not math.isnan(v)])
@@ -253,6 +257,23 @@ def ensemble_table(results, mus, notes, suffix=""):
         for key, name, digits in ENSEMBLE_KEYS:
             a = [getattr(v["ours_stats"], key) for v in runs]
             b = [getattr(v["yade_stats"], key) for v in runs]
+            ca, ta = _ci(a, digits)
+            cb, tb = _ci(b, digits)
+            cd, td = _ci([x - y for x, y in zip(a, b)], digits)
+            overlap = "yes" if ca.n > 1 and ca.low <= cb.high and cb.low <= ca.high else (
+                "no" if ca.n > 1 else "–")
+            zero = "–" if cd.n < 2 else ("no" if cd.low > 0 or cd.high < 0 else "yes")
+            rows.append([mu, name, len(runs), ta, tb, overlap, td, zero,
+                         _f(ca.std, digits), _f(cb.std, digits)])
+        final = min(float(v[side].axial_strain[-1]) for v in runs for side in ("ours", "yade")) \
+            if runs else 0.0
+        extra = [("Z at the start of the shear", 2, lambda r: float(r.coordination[0]))]
+        extra += [(f"ε_v at {100 * e:g} %", 4,
+                   lambda r, e=e: float(np.interp(e, r.axial_strain, r.volumetric_strain)))
+                  for e in EV_STRAINS if e <= final + 1e-9]   # where the trajectories part
+        for name, digits, value in extra:
+            a = [value(v["ours"]) for v in runs]
+            b = [value(v["yade"]) for v in runs]
             ca, ta = _ci(a, digits)
             cb, tb = _ci(b, digits)
             cd, td = _ci([x - y for x, y in zip(a, b)], digits)
@@ -297,6 +318,45 @@ def figure(results, path: str) -> None:
         ax.set_xlabel("axial strain (%)")
         ax.set_ylabel(name)
     axes[0].legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    print(f"wrote {path}")
+
+
+def ensemble_figure(results, path: str, final_strain: float) -> None:
+    """The mean mobilized angle and volumetric strain against the axial strain over the
+    samples, with their 95 % bands (Student's t, point by point), ours solid, YADE dashed."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from _dem_compare import mobilized_angle
+    from frictionrules.assembly._statistics import interval
+    grid = np.linspace(0.0, final_strain, int(round(final_strain / 1e-3)) + 1)
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4))
+    mus = sorted({mu for (_, mu, law), v in results.items() if law == "coulomb"})
+    for mu in mus:
+        runs = [v for (s, m, law), v in results.items()
+                if m == mu and law == "coulomb" and v.get("ours") is not None]
+        for side, style in (("ours", "-"), ("yade", "--")):
+            curves = [[np.interp(grid, r[side].axial_strain, y) for r in runs
+                       for y in [mobilized_angle(r[side].stress)]],
+                      [np.interp(grid, r[side].axial_strain, r[side].volumetric_strain) for r in runs]]
+            for ax, ys in zip(axes, curves):
+                ys = np.array(ys)
+                cis = [interval(col) for col in ys.T]
+                mean = np.array([c.mean for c in cis])
+                colour = f"C{2 * mus.index(mu) + (side == 'yade')}"
+                ax.plot(100 * grid, mean, style, color=colour,
+                        label=f"{'ours' if side == 'ours' else 'YADE'} μ = {mu:g} (n = {len(runs)})")
+                if len(runs) > 1:
+                    ax.fill_between(100 * grid, [c.low for c in cis], [c.high for c in cis],
+                                    color=colour, alpha=0.2, lw=0)
+    for ax, name in zip(axes, ("mobilized angle asin((σ1 − σ3)/(σ1 + σ3)) (°)",
+                               "volumetric strain (compression +)")):
+        ax.set_xlabel("axial strain (%)")
+        ax.set_ylabel(name)
+    axes[1].legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     print(f"wrote {path}")
@@ -393,6 +453,8 @@ def main(argv=None):
     parser.add_argument("--yade-only", action="store_true", help="skip ours")
     parser.add_argument("--threads", type=int, default=1, help="NUMBA_NUM_THREADS for ours")
     parser.add_argument("--figure", help="angle, ε_v and Z against the axial strain (.png)")
+    parser.add_argument("--ensemble-figure",
+                        help="mean angle and ε_v with their 95 %% bands, ours beside YADE (.png)")
     args = parser.parse_args(argv)
     os.environ["NUMBA_NUM_THREADS"] = str(args.threads)   # before anything imports numba
     seeds = parse_seeds(args.seeds)
@@ -414,7 +476,9 @@ def main(argv=None):
     tag = ("" if args.preparation == "cloud" else f"_{args.preparation}") + screening(args)
     if args.preparation == "scaled":
         samples = {seed: scaled_sample(s, protocol) for seed, s in samples.items()}
-    warm = warm_up(samples[seeds[0]], protocol, laws) if with_ours else {}
+    missing = not args.reuse_ours or any(kept_ours(seed, mu, law, protocol, tag) is None
+                                         for seed in seeds for mu in mus for law in laws)
+    warm = warm_up(samples[seeds[0]], protocol, laws) if with_ours and missing else {}
     results = {}
     for seed in seeds:
         for mu in mus:
@@ -450,6 +514,8 @@ def main(argv=None):
         ensemble_table(results, mus, ensemble_notes(protocol, args.preparation), tag)
     if args.figure:
         figure(results, args.figure)
+    if args.ensemble_figure and with_ours:
+        ensemble_figure(results, args.ensemble_figure, protocol.axial_strain)
     if with_ours:
         laws_table({k: v for k, v in results.items() if v.get("ours_stats") is not None},
                    f"{threads}. Laws: " + "; ".join(f"{k}: {LAW_TEXT[k]}" for k in laws) +
