@@ -1,8 +1,20 @@
 """Benchmark: random packings in axisymmetric compression to 25 % strain, the DEM engine beside
 YADE on the same samples.
 
-One command: ``python benchmarks/assembly_yade.py [--quick] [--seeds 1,2,3] [--mu 0.3,0.5]
-[--laws coulomb,user,orthotropic,dilatant] [--rerun-yade] [--threads 1] [--figure FILE]``.
+One command: ``python benchmarks/assembly_yade.py [--quick] [--seeds 1,2,3 | 1-12] [--mu 0.3,0.5]
+[--laws coulomb,user,orthotropic,dilatant] [--preparation cloud|scaled] [--rerun-yade]
+[--reuse-ours] [--threads 1] [--figure FILE] [--ensemble-figure FILE]``.
+
+* Preparations: "cloud" (both codes consolidate the loose cloud) or "scaled" (the cloud
+  compacted frictionless to p by our engine, scaled up to zero overlap, then consolidated by
+  both codes).
+* Ensembles (``results/assembly_yade_ensemble[_scaled].md``, rewritten after each sample):
+  each code's mean with its 95 % interval (Student's t) and the mean of the paired differences
+  (the same sample in both codes) with its interval, for the statistics below, ε_v at 2–20 %
+  and Z at the start of the shear.
+* Screening (one thing of ours changed at run time, the runs tagged with it):
+  ``--ours-preload``, ``--ours-dt-safety``, ``--ours-servo-rate``; ``--strain`` below
+  ``--yade-strain`` compares short runs of ours with YADE's kept ones at ``--strain``.
 
 * Samples: 400 spheres, radii 1 ± 20 %, made by YADE's own generator (``makeCloud``, periodic,
   a loose cloud) with the given seeds; both codes start from the same positions and radii.
