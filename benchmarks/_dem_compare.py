@@ -171,6 +171,52 @@ def yade_sample(seed: int, protocol: Protocol) -> dict:
             "cell": np.array(data["cell"]).T, "path": str(path), "seed": seed}
 
 
+def scaled_sample(cloud: dict, protocol: Protocol) -> dict:
+    """The cloud ``cloud`` (:func:`yade_sample`) compacted without friction to the pressure
+    (our engine's frictionless compression, normal springs ``kn``, unbalanced-force ratio below
+    ``unbalanced_tol``), then its positions and cell scaled up by the least factor that leaves
+    no overlap (kept and reused): the same dictionary, its ``path`` the scaled sample's file.
+
+    Both codes then consolidate from this dense, stress-free packing, so that neither one's
+    compaction of the loose cloud decides the sample."""
+    spec = {"task": "scaled", "cloud": Path(cloud["path"]).name, "kn": protocol.kn,
+            "pressure": protocol.pressure, "unbalanced_tol": protocol.unbalanced_tol,
+            "density": protocol.density}
+    path = STORE / "samples" / f"seed{cloud['seed']}_scaled_{_key(spec)}.json"
+    if not path.exists():
+        from frictionrules.assembly._dem import frictionless_compression
+        radii = cloud["radii"]
+        x, cell = frictionless_compression(cloud["positions"], radii, cloud["cell"], protocol.kn,
+                                           protocol.pressure, density=protocol.density,
+                                           unbalanced_tol=protocol.unbalanced_tol)
+        x, cell = _scale_to_contact(x, radii, cell)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = path.with_suffix(".tmp")
+        tmp.write_text(json.dumps({"positions": x.tolist(), "radii": radii.tolist(),
+                                   "cell": cell.T.tolist(), "seed": cloud["seed"],
+                                   "generator": "makeCloud, frictionless compression, scaled",
+                                   "spec": spec}))
+        tmp.replace(path)
+    data = json.loads(path.read_text())
+    return {"positions": np.array(data["positions"]), "radii": np.array(data["radii"]),
+            "cell": np.array(data["cell"]).T, "path": str(path), "seed": cloud["seed"]}
+
+
+def _scale_to_contact(x, radii, cell):
+    """``x``, ``cell`` times the least factor ``s`` that leaves no overlap: the largest
+    ``(ri + rj)/|xi − xj|`` over pairs (minimum images of a rectangular cell), all pairs."""
+    L = np.diag(cell)
+    if not np.allclose(cell, np.diag(L)):
+        raise ValueError("a rectangular cell is expected")
+    d = x[:, None, :] - x[None, :, :]
+    d -= L * np.round(d / L)
+    dist = np.linalg.norm(d, axis=-1)
+    np.fill_diagonal(dist, np.inf)
+    s = float(np.max((radii[:, None] + radii[None, :]) / dist))
+    s = max(s, 1.0) * (1 + 1e-12)
+    return x * s, cell * s
+
+
 def yade_job(sample: dict, mu: float, protocol: Protocol) -> dict:
     p = protocol
     return {"task": "triaxial", "sample": sample["path"], "mu": mu, "kn": p.kn, "kt": p.kt,
