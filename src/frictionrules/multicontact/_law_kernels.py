@@ -23,6 +23,7 @@ import numpy as np
 from .._optional import require
 from ..contact import contact_update
 from ..contact.layout import LAW_KN, LAW_KT, RES_FORCE, RES_SIZE
+from ._kernels import csr_matvec
 
 njit = require("numba", extra="kernels").njit
 
@@ -78,18 +79,6 @@ def trial_weight(rn, un):
     if rn > 0.0 and un > 0.5 * rn:
         return 0.5 * rn / un
     return 1.0
-
-
-@njit(cache=True)
-def csr_matvec(indptr, indices, data, x, q):
-    n = q.size
-    y = np.empty(n)
-    for i in range(n):
-        acc = q[i]
-        for k in range(indptr[i], indptr[i + 1]):
-            acc += data[k] * x[indices[k]]
-        y[i] = acc
-    return y
 
 
 @njit(cache=True)

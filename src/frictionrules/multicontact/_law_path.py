@@ -46,9 +46,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import FrictionRulesError, check_finite
+from ..errors import FrictionRulesError
 from ._frame import UNBOUNDED, _Monitor
 from ._law_check import LAW_METHODS, check_law, short
+from .error import checked_vectors
 from .problem import Solution
 
 __all__ = ["LAW_METHODS", "check_law", "law_error", "contact_dissipation", "solve_law"]
@@ -117,17 +118,6 @@ def _kernels():
     return _law_kernels
 
 
-def _vectors(problem, r, u):
-    n = 3 * problem.nc
-    r = check_finite("r", r).ravel()
-    if r.size != n:
-        raise FrictionRulesError(f"r has {r.size} entries; constraint: 3 nc = {n}")
-    u = problem.velocity(r) if u is None else check_finite("u", u).ravel()
-    if u.size != n:
-        raise FrictionRulesError(f"u has {u.size} entries; constraint: 3 nc = {n}")
-    return np.ascontiguousarray(r, dtype=float), np.ascontiguousarray(u, dtype=float)
-
-
 def law_error(problem, r, u=None) -> float:
     r"""The natural-map error of ``r`` for the laws of ``problem``, zero exactly at a solution.
 
@@ -152,7 +142,7 @@ def law_error(problem, r, u=None) -> float:
     u : (3 nc,) array, optional
         Velocities; :math:`W r + q` when omitted.
     """
-    r, u = _vectors(problem, r, u)
+    r, u = checked_vectors(problem, r, u)
     ls = law_set(problem)
     K = _kernels()
     from ..contact import workspace
@@ -172,7 +162,7 @@ def contact_dissipation(problem, r, u=None) -> np.ndarray:
     potential homogeneous of degree one): non-negative wherever g is on the limit surface,
     e.g. for every law of the paper without normal slip.
     """
-    r, u = _vectors(problem, r, u)
+    r, u = checked_vectors(problem, r, u)
     return -np.einsum("ai,ai->a", r.reshape(-1, 3), u.reshape(-1, 3))
 
 

@@ -67,13 +67,7 @@ def fc3d_error(problem, r, u=None) -> float:
         raise FrictionRulesError("problem = the law path (a law that is not an elliptic cone) "
                                  "violates: fc3d_error needs every contact's law to declare the "
                                  "capability 'cone'; use law_error")
-    n = 3 * problem.nc
-    r = check_finite("r", r).ravel()
-    if r.size != n:
-        raise FrictionRulesError(f"r has {r.size} entries; constraint: 3 nc = {n}")
-    u = problem.velocity(r) if u is None else check_finite("u", u).ravel()
-    if u.size != n:
-        raise FrictionRulesError(f"u has {u.size} entries; constraint: 3 nc = {n}")
+    r, u = checked_vectors(problem, r, u)
     rr, uu, qq = r.reshape(-1, 3).copy(), u.reshape(-1, 3).copy(), problem.q.reshape(-1, 3).copy()
     if problem.frames is not None:  # to the circular frame: r~_T = A^-1 r_T, u~_T = A^T u_T
         rr[:, 1:] = np.linalg.solve(problem.frames, rr[:, 1:, None])[..., 0]
@@ -86,3 +80,16 @@ def fc3d_error(problem, r, u=None) -> float:
     res = rr - project_cone(rr - uhat, mu[:, None][..., 0])
     err = float(np.sqrt(np.sum(res * res)))
     return err / scale if scale > np.finfo(float).eps else err
+
+
+def checked_vectors(problem, r, u):
+    """``r`` and ``u`` (``problem.velocity(r)`` where None) as contiguous float vectors of
+    ``3 nc`` finite entries, checked where they enter."""
+    n = 3 * problem.nc
+    r = check_finite("r", r).ravel()
+    if r.size != n:
+        raise FrictionRulesError(f"r has {r.size} entries; constraint: 3 nc = {n}")
+    u = problem.velocity(r) if u is None else check_finite("u", u).ravel()
+    if u.size != n:
+        raise FrictionRulesError(f"u has {u.size} entries; constraint: 3 nc = {n}")
+    return np.ascontiguousarray(r, dtype=float), np.ascontiguousarray(u, dtype=float)
