@@ -262,6 +262,18 @@ def diagonal_blocks(indptr, indices, data, nc):
     return D
 
 
+@njit(inline="always")
+def check_interval(hist_err, hist_it, nh, err, tol, max_interval):
+    """Sweeps until the next error check: half the number the last two checks' linear rate
+    (in log error) predicts to reach ``tol``, between 1 and ``max_interval``; 1 where the
+    error did not fall."""
+    if nh >= 2 and 0.0 < err < hist_err[nh - 2]:
+        rate = np.log(err / hist_err[nh - 2]) / (hist_it[nh - 1] - hist_it[nh - 2])
+        predicted = np.log(tol / err) / rate
+        return int(min(float(max_interval), max(1.0, 0.5 * predicted)))
+    return 1
+
+
 @njit(cache=True)
 def nsgs(indptr, indices, data, D, q, mu, dil, r, tol, max_iter, hist_err, hist_it, norm_q, max_interval):
     """Non-smooth Gauss–Seidel sweeps over the contacts with :func:`local_solve`.
@@ -303,12 +315,7 @@ def nsgs(indptr, indices, data, D, q, mu, dil, r, tol, max_iter, hist_err, hist_
         nh += 1
         if err <= tol:
             break
-        step = 1
-        if nh >= 2 and 0.0 < err < hist_err[nh - 2]:
-            rate = np.log(err / hist_err[nh - 2]) / (hist_it[nh - 1] - hist_it[nh - 2])
-            predicted = np.log(tol / err) / rate
-            step = int(min(float(max_interval), max(1.0, 0.5 * predicted)))
-        next_check = it + step
+        next_check = it + check_interval(hist_err, hist_it, nh, err, tol, max_interval)
     return it, err, nh
 
 

@@ -23,7 +23,7 @@ import numpy as np
 from .._optional import require
 from ..contact import contact_update
 from ..contact.layout import LAW_KN, LAW_KT, RES_FORCE, RES_SIZE
-from ._kernels import csr_matvec
+from ._kernels import check_interval, csr_matvec
 
 njit = require("numba", extra="kernels").njit
 
@@ -267,12 +267,7 @@ def law_nsgs(indptr, indices, data, D, q, fn, rows_k, rows_1, dilatant, r, tol, 
         nh += 1
         if err <= tol or not np.isfinite(err):
             break
-        step = 1
-        if nh >= 2 and 0.0 < err < hist_err[nh - 2]:
-            rate = np.log(err / hist_err[nh - 2]) / (hist_it[nh - 1] - hist_it[nh - 2])
-            predicted = np.log(tol / err) / rate
-            step = int(min(float(max_interval), max(1.0, 0.5 * predicted)))
-        next_check = it + step
+        next_check = it + check_interval(hist_err, hist_it, nh, err, tol, max_interval)
     return it, err, nh
 
 
