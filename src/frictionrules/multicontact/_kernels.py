@@ -274,6 +274,18 @@ def check_interval(hist_err, hist_it, nh, err, tol, max_interval):
     return 1
 
 
+@njit(inline="always")
+def local_rhs(indptr, indices, data, q, D, r, a, b):
+    """Contact ``a``'s right-hand side of a sweep into ``b`` (3,):
+    ``b = q_a + sum_{c != a} W_ac r_c = (W r + q)_a - W_aa r_a`` (W in CSR, ``D[a] = W_aa``)."""
+    i = 3 * a
+    for l in range(3):
+        acc = q[i + l]
+        for k in range(indptr[i + l], indptr[i + l + 1]):
+            acc += data[k] * r[indices[k]]
+        b[l] = acc - (D[a, l, 0] * r[i] + D[a, l, 1] * r[i + 1] + D[a, l, 2] * r[i + 2])
+
+
 @njit(cache=True)
 def nsgs(indptr, indices, data, D, q, mu, dil, r, tol, max_iter, hist_err, hist_it, norm_q, max_interval):
     """Non-smooth Gauss–Seidel sweeps over the contacts with :func:`local_solve`.
@@ -297,11 +309,7 @@ def nsgs(indptr, indices, data, D, q, mu, dil, r, tol, max_iter, hist_err, hist_
         r2 = 0.0
         for a in range(nc):
             i = 3 * a
-            for l in range(3):  # b = q_a + sum_{c != a} W_ac r_c = (W r + q)_a - W_aa r_a
-                acc = q[i + l]
-                for k in range(indptr[i + l], indptr[i + l + 1]):
-                    acc += data[k] * r[indices[k]]
-                b[l] = acc - (D[a, l, 0] * r[i] + D[a, l, 1] * r[i + 1] + D[a, l, 2] * r[i + 2])
+            local_rhs(indptr, indices, data, q, D, r, a, b)
             r0, r1, r2_ = local_solve(D[a], b, mu[a], dil[a], r[i], r[i + 1], r[i + 2])
             dr2 += (r0 - r[i]) ** 2 + (r1 - r[i + 1]) ** 2 + (r2_ - r[i + 2]) ** 2
             r2 += r0 * r0 + r1 * r1 + r2_ * r2_

@@ -23,7 +23,7 @@ import numpy as np
 from .._optional import require
 from ..contact import contact_update
 from ..contact.layout import LAW_KN, LAW_KT, RES_FORCE, RES_SIZE
-from ._kernels import check_interval, csr_matvec
+from ._kernels import check_interval, csr_matvec, local_rhs
 
 njit = require("numba", extra="kernels").njit
 
@@ -248,11 +248,7 @@ def law_nsgs(indptr, indices, data, D, q, fn, rows_k, rows_1, dilatant, r, tol, 
         rr = 0.0
         for a in range(nc):
             i = 3 * a
-            for l in range(3):  # b = (W r + q)_a - W_aa r_a
-                acc = q[i + l]
-                for k in range(indptr[i + l], indptr[i + l + 1]):
-                    acc += data[k] * r[indices[k]]
-                b[l] = acc - (D[a, l, 0] * r[i] + D[a, l, 1] * r[i + 1] + D[a, l, 2] * r[i + 2])
+            local_rhs(indptr, indices, data, q, D, r, a, b)
             r0, r1, r2 = _local(D[a], b, fn[a], rows_k[a], dilatant[a], r[i], r[i + 1], r[i + 2],
                                 local_iter, local_tol, s, du, s1, res, ws, tan)
             dr2 += (r0 - r[i]) ** 2 + (r1 - r[i + 1]) ** 2 + (r2 - r[i + 2]) ** 2
