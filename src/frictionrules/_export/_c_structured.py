@@ -32,7 +32,7 @@ _HEAD = """/* The return the law's structure offers (radial, closed form or one 
    the general return: ELASTIC, PLASTIC (sig, q1, dlam and, when dsig is not NULL,
    dsigma/dsigma_trial) or GENERAL (the general return takes the contact). */
 #define GENERAL @GENERAL@
-static int structured_return(const double *sig_tr, const double *q, const double *p,
+static @INLINE@int structured_return(const double *sig_tr, const double *q, const double *p,
                              double kt, double kn, double *sig, double *q1, double *dlam,
                              double *dsig)
 {"""
@@ -73,14 +73,15 @@ def structure_kind(form) -> str:
     return "scalar" if "along" in names else "closed"
 
 
-def structured_c(spec) -> str:
+def structured_c(spec, inline: bool = False) -> str:
     """The C text of ``structured_return`` for the law of ``spec`` (a
-    :class:`~frictionrules._export._spec.LawSpec`)."""
+    :class:`~frictionrules._export._spec.LawSpec`); ``static inline`` with ``inline`` (a
+    header's copy, which the LAMMPS pair style compiles into its contact loop)."""
     from .._returnspec import GENERAL, SCALAR_MAX_ITER
     from ..codegen import c_block, step_programs, used_inputs
     prefix, nq = spec.name, spec.nq
     kind = structure_kind(spec.form)
-    head = _HEAD.replace("@GENERAL@", str(GENERAL))
+    head = _HEAD.replace("@GENERAL@", str(GENERAL)).replace("@INLINE@", "inline " if inline else "")
     if kind == "general":
         return head + "\n" + "\n".join(
             f"    (void){a};" for a in ("sig_tr", "q", "p", "kt", "kn", "sig", "q1", "dlam",

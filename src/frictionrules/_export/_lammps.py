@@ -23,7 +23,7 @@ from pathlib import Path
 from ..errors import FrictionRulesError
 
 __all__ = ["write_lammps", "lammps_snippet", "lammps_readme", "plugin_file", "HISTORY",
-           "normal_slip", "history"]
+           "normal_slip", "isotropic", "history"]
 
 #: The per-contact history of the pair style (fix NEIGH_HISTORY), before the law's internal
 #: variables: (name, kind, meaning). Every value is kept in the pair's canonical orientation
@@ -50,6 +50,35 @@ def normal_slip(spec) -> bool:
     return sympy.simplify(sympy.diff(spec.form.g, spec.form.variables[2])) != 0
 
 
+def isotropic(spec) -> bool:
+    r"""The law depends on the tangential force through :math:`|T|` only: f, g and every rate
+    h of (4.5) are unchanged by a rotation of T in the contact plane,
+    :math:`T_2\,\partial_{T_1}\phi - T_1\,\partial_{T_2}\phi \equiv 0` for each, whatever
+    the parameters (``pair_coeff`` may set others than the export's; checked numerically at a
+    few points first, then proved by SymPy; unproved is anisotropic). The pair
+    style then takes the contact frame along the trial's tangential displacement (the law sees
+    ``(|δt|, 0)``) instead of projecting the reference axis: the same forces, fewer operations."""
+    import sympy
+    import random
+    form = spec.form
+    t1, t2, nn = form.variables
+    rng = random.Random(0)
+    points = [{t1: rng.uniform(-2, 2), t2: rng.uniform(-2, 2), nn: rng.uniform(0.5, 2),
+               **{q: rng.uniform(0.1, 1) for q in (*form.state, *form.params)}}
+              for _ in range(3)]
+    for expr in (form.f, form.g, *form.rates):
+        turn = t2 * sympy.diff(expr, t1) - t1 * sympy.diff(expr, t2)
+        for point in points:
+            try:
+                if not abs(complex(turn.xreplace(point).evalf())) <= 1e-9:
+                    return False
+            except (TypeError, ValueError, ZeroDivisionError):
+                return False
+        if sympy.simplify(turn) != 0:
+            return False
+    return True
+
+
 def history(spec) -> tuple:
     """The pair style's history for this law (``history rotate``): (name, kind, meaning), the
     law's internal variables before ``n_old``."""
@@ -63,11 +92,74 @@ def plugin_file(name: str) -> str:
     return f"frictionrules_{name}plugin.so"
 
 
+def _inline_step(spec) -> str:
+    """The law's step as the pair style calls it, ``fr_update``: where the law's symbolic
+    structure offers a radial return (:func:`._c_structured.structure_kind`), its closed
+    contacts that the structured return answers (ELASTIC or PLASTIC) are computed in the pair
+    style's own translation unit — the structured return of the ``c`` target, the same text
+    printed ``static inline`` — so that the compiler inlines it into the contact loop; the
+    other contacts (open, or left to the general return) call ``<name>_update``. The results
+    are those of ``<name>_update`` operation for operation (``step_once`` of the ``c``
+    target)."""
+    from .._returnspec import ELASTIC, PLASTIC, placeholders
+    from ..codegen import c_helpers
+    from ._c_structured import structure_kind, structured_c
+    name = spec.name
+    call = f"return {name}_update(params, state_in, increment, state_out, force, 0);"
+    head = ("static inline int fr_update(const double *params, const double *state_in,\n"
+            "                            const double *increment, double *state_out, "
+            "double *force)\n{")
+    if structure_kind(spec.form) == "general":
+        return f"/* The law's structure offers no radial return: every contact calls the c " \
+               f"target. */\n{head}\n  {call}\n}}\n"
+    tol = placeholders(lambda v: repr(float(v)))["@TOL@"]
+    return f"""/* The structured return of the c target ({name}.c), printed static inline for the pair
+   style's contact loop (names kept inside namespace fr_law, macros undefined after it). */
+namespace fr_law {{
+#define TOL {tol}
+enum {{ ELASTIC = {ELASTIC}, PLASTIC = {PLASTIC} }};
+{c_helpers(name)}
+{structured_c(spec, inline=True)}
+#undef GENERAL
+#undef TOL
+}}    // namespace fr_law
+
+/* step_once of {name}.c for the closed contacts the structured return answers; the others
+   (open: N_trial <= 0; left to the general return) call {name}_update. */
+{head}
+  const double kt = params[0], kn = params[1];
+  const double et[3] = {{state_in[0] + increment[0], state_in[1] + increment[1],
+                        state_in[2] + increment[2]}};
+  const double sig_tr[3] = {{kt * et[0], kt * et[1], -kn * et[2]}};
+  if (sig_tr[2] > 0.0) {{
+    double sig[3] = {{sig_tr[0], sig_tr[1], sig_tr[2]}}, q1[FR_NQ > 0 ? FR_NQ : 1], dlam = 0.0;
+    for (int j = 0; j < FR_NQ; j++) q1[j] = state_in[6 + j];
+    const int kind = fr_law::structured_return(sig_tr, state_in + 6, params + 2, kt, kn, sig,
+                                               q1, &dlam, nullptr);
+    if (kind == fr_law::ELASTIC || kind == fr_law::PLASTIC) {{
+      const int elastic = kind == fr_law::ELASTIC;
+      const double e[3] = {{elastic ? et[0] : sig[0] / kt, elastic ? et[1] : sig[1] / kt,
+                           elastic ? et[2] : -sig[2] / kn}};
+      for (int a = 0; a < 3; a++) {{
+        state_out[a] = e[a];
+        state_out[3 + a] = state_in[3 + a] + (et[a] - e[a]);
+        force[a] = sig[a];
+      }}
+      for (int j = 0; j < FR_NQ; j++) state_out[6 + j] = q1[j];
+      return kind;
+    }}
+  }}
+  {call}
+}}
+"""
+
+
 def law_header(spec) -> str:
     """``frictionrules_law.h``: the fixed interface of the pair style mapped onto the law."""
     name = spec.name
     params = " ".join(spec.param_names)
     head = "\n".join(spec.header(" *", "lammps"))
+    initial = "".join(f"\n  state[{6 + k}] = {v!r};" for k, v in enumerate(spec.initial))
     return f"""/*
 {head}
  *
@@ -75,6 +167,9 @@ def law_header(spec) -> str:
  */
 #ifndef FRICTIONRULES_LAW_H
 #define FRICTIONRULES_LAW_H
+
+#include <math.h>
+#include <stddef.h>
 
 #define FR_NAME "{name}"
 #define FR_STYLE "frictionrules/{name}"
@@ -87,6 +182,8 @@ def law_header(spec) -> str:
 #define FR_NSTATE (6 + FR_NQ)
 /* 1 where the law's potential depends on N (normal slip: the history keeps dp_n), else 0 */
 #define FR_NORMAL_SLIP {int(normal_slip(spec))}
+/* 1 where f, g and the rates depend on T through |T| only (the frame follows the slip), else 0 */
+#define FR_ISOTROPIC {int(isotropic(spec))}
 
 #ifdef __cplusplus
 extern "C" {{
@@ -99,16 +196,11 @@ extern "C" {{
 /* One step of the law: params = (kt, kn, law parameters), state = (de_t1, de_t2, de_n, dp_t1,
    dp_t2, dp_n, q...), increment = (ddt1, ddt2, ddn; ddn > 0 opens), force = (T1, T2, N; N > 0
    in compression). Returns 0 stick, 1 slip, 2 open, -1 failure. */
-static inline int fr_update(const double *params, const double *state_in,
-                            const double *increment, double *state_out, double *force)
-{{
-  return {name}_update(params, state_in, increment, state_out, force, 0);
-}}
-
-/* The state of a virgin contact. */
+{_inline_step(spec)}
+/* The state of a virgin contact ({name}_initial_state). */
 static inline void fr_initial_state(double *state)
 {{
-  {name}_initial_state(state);
+  for (int k = 0; k < FR_NSTATE; k++) state[k] = 0.0;{initial}
 }}
 
 #endif

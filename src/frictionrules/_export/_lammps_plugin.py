@@ -149,6 +149,7 @@ class FR_CLASS : public Pair {
   double maxrad;             // largest radius of any atom
   int stride;                // ntypes + 1 when allocated
   void allocate();
+  template <int COMMIT, int PROJECT, int AFFINE> void eval();
   int nhistory() const;    // values per contact: FR_NHISTORY_PROJECT or _ROTATE
   std::string history_id() const { return "NEIGH_HISTORY_FR" + std::to_string(instance_me); }
   double *params(int itype, int jtype) const

@@ -340,8 +340,20 @@ void FR_CLASS::compute(int eflag, int vflag)
   if (affine && domain->deform_vremap)    // the velocities carry the streaming part already
     error->all(FLERR, "pair_style " FR_STYLE ": affine yes is for fix deform remap x, not remap v");
   // setup (the forces of a run's first step) commits nothing: the force of a contact is the
-  // one of its last step, as LAMMPS's granular styles do
-  const int commit = update->setupflag ? 0 : 1;
+  // one of its last step, as LAMMPS's granular styles do. The modes are template parameters,
+  // so that the contact loop has no branch on them.
+  if (update->setupflag)
+    project ? eval<0, 1, 0>() : eval<0, 0, 0>();
+  else if (project)
+    affine ? eval<1, 1, 1>() : eval<1, 1, 0>();
+  else
+    affine ? eval<1, 0, 1>() : eval<1, 0, 0>();
+}
+
+/* The contact loop: COMMIT (not LAMMPS's setup: the history moves on), PROJECT (history
+   project), AFFINE (affine yes). */
+template <int COMMIT, int PROJECT, int AFFINE> void FR_CLASS::eval()
+{
   const double dt = update->dt;
   double **x = atom->x, **v = atom->v, **f = atom->f;
   double **omega = atom->omega, **torque = atom->torque;
@@ -356,10 +368,8 @@ void FR_CLASS::compute(int eflag, int vflag)
   auto view = static_cast<FR_HISTORY_FIX *>(fix_history);
   int **firsttouch = view->firstflag;
   double **firsthist = view->firstvalue;
-  double virgin[FR_NSTATE], state[FR_NSTATE], next[FR_NSTATE], inc[3], frc[3];
-  fr_initial_state(virgin);
   const int onetype = atom->ntypes == 1;
-  const int stride = nhistory();
+  const int stride = PROJECT ? FR_NHISTORY_PROJECT : FR_NHISTORY_ROTATE;
   // L = h_rate h_inv (upper triangular, Voigt order xx yy zz yz xz xy), with affine yes
   const double *hr = domain->h_rate, *hi = domain->h_inv;
   const double L[6] = {hr[0] * hi[0], hr[1] * hi[1], hr[2] * hi[2], hr[1] * hi[3] + hr[3] * hi[2],
@@ -389,36 +399,19 @@ void FR_CLASS::compute(int eflag, int vflag)
       const int fresh = !touch[jj];
       double g[3];
       const double *p = onetype ? params(1, 1) : params(type[i], type[j]);
-      if (!commit && !fresh) {
+      if (!COMMIT && !fresh) {
         fr_last_force(h, p, gap, n, g);
       } else {
-        const double W[3] = {ri * omega[i][0] + rj * omega[j][0], ri * omega[i][1] + rj * omega[j][1],
-                             ri * omega[i][2] + rj * omega[j][2]};
-        double t1[3], t2[3];
-        fr_frame(n[0], n[1], n[2], axis, t1);
-        t2[0] = n[1] * t1[2] - n[2] * t1[1];
-        t2[1] = n[2] * t1[0] - n[0] * t1[2];
-        t2[2] = n[0] * t1[1] - n[1] * t1[0];
-        for (int k = 0; k < FR_NSTATE; k++) state[k] = virgin[k];
-        inc[0] = inc[1] = 0.0;
-        inc[2] = gap;
-        if (commit && (project || !fresh)) {
-          // gran/hooke/history: the first step of a contact slides already
-          double Ll[3] = {0.0, 0.0, 0.0};
-          if (affine) {    // l = sg (x_j - x_i) = sg d
-            Ll[0] = sg * (L[0] * d0 + L[5] * d1 + L[4] * d2);
-            Ll[1] = sg * (L[1] * d1 + L[3] * d2);
-            Ll[2] = sg * L[2] * d2;
-          }
-          const double u[3] = FR_RELATIVE_VELOCITY;
-          inc[0] = dt * (u[0] * t1[0] + u[1] * t1[1] + u[2] * t1[2]);
-          inc[1] = dt * (u[0] * t2[0] + u[1] * t2[1] + u[2] * t2[2]);
-        }
+        double state[FR_NSTATE], next[FR_NSTATE], inc[3] = {0.0, 0.0, gap}, frc[3];
+        fr_initial_state(state);
+        // the trial's elastic tangential displacement as a global vector e: the stored one
+        // carried to this step's contact plane, plus the increment; the law's state holds it
+        // in the frame (t1, t2), de_n = dp = 0 (the increment carries the whole normal
+        // displacement, less the plastic one; the law never reads dp)
+        double e[3] = {0.0, 0.0, 0.0};
         if (!fresh) {
-          double ue[3];
-          if (project) {    // gran/hooke/history: projected on the new plane, no twist
-            const double ce = h[H_ET] * n[0] + h[H_ET + 1] * n[1] + h[H_ET + 2] * n[2];
-            for (int c = 0; c < 3; c++) ue[c] = h[H_ET + c] - ce * n[c];
+          if (PROJECT) {    // gran/hooke/history: projected on the new plane (below), no twist
+            for (int c = 0; c < 3; c++) e[c] = h[H_ET + c];
           } else {
             const double *n0 = h + H_N0;
             const double m[3] = {n0[0] + n[0], n0[1] + n[1], n0[2] + n[2]};
@@ -430,30 +423,76 @@ void FR_CLASS::compute(int eflag, int vflag)
             s += s * s * s * (1.0 / 3.0);
             const double ss = 1.0 + s * s, r = 1.0 / (c * ss);    // one division for both
             const double s2 = c * r;
-            fr_turn(h + H_ET, m, ss * r, n, (1.0 - s * s) * s2, 2.0 * s * s2, ue);
+            fr_turn(h + H_ET, m, ss * r, n, (1.0 - s * s) * s2, 2.0 * s * s2, e);
           }
-          // the law's state: de_t in this frame, de_n = dp = 0 (the increment carries the
-          // whole normal displacement, less the plastic one; the law never reads dp)
-          state[0] = ue[0] * t1[0] + ue[1] * t1[1] + ue[2] * t1[2];
-          state[1] = ue[0] * t2[0] + ue[1] * t2[1] + ue[2] * t2[2];
           for (int q = 0; q < FR_NQ; q++) state[6 + q] = h[H_Q + q];
 #if FR_NORMAL_SLIP
           inc[2] = gap - h[H_PN];
 #endif
         }
+        if (COMMIT && (PROJECT || !fresh)) {
+          // gran/hooke/history: the first step of a contact slides already
+          const double W[3] = {ri * omega[i][0] + rj * omega[j][0],
+                               ri * omega[i][1] + rj * omega[j][1],
+                               ri * omega[i][2] + rj * omega[j][2]};
+          double Ll[3] = {0.0, 0.0, 0.0};
+          if (AFFINE) {    // l = sg (x_j - x_i) = sg d
+            Ll[0] = sg * (L[0] * d0 + L[5] * d1 + L[4] * d2);
+            Ll[1] = sg * (L[1] * d1 + L[3] * d2);
+            Ll[2] = sg * L[2] * d2;
+          }
+          const double u[3] = FR_RELATIVE_VELOCITY;
+          for (int c = 0; c < 3; c++) e[c] += dt * u[c];
+        }
+        double t1[3], t2[3];
+#if FR_ISOTROPIC
+        // the law depends on the tangential force through |T| only: t1 along e (the law sees
+        // (|e|, 0)), the frame of the reference axis where e = 0
+        const double en = e[0] * n[0] + e[1] * n[1] + e[2] * n[2];
+        for (int c = 0; c < 3; c++) e[c] -= en * n[c];
+        const double es = sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+        if (es > 0.0) {
+          const double ei = 1.0 / es;
+          for (int c = 0; c < 3; c++) t1[c] = e[c] * ei;
+        } else {
+          fr_frame(n[0], n[1], n[2], axis, t1);
+        }
+        state[0] = es;
+#else
+        fr_frame(n[0], n[1], n[2], axis, t1);
+        t2[0] = n[1] * t1[2] - n[2] * t1[1];
+        t2[1] = n[2] * t1[0] - n[0] * t1[2];
+        t2[2] = n[0] * t1[1] - n[1] * t1[0];
+        state[0] = e[0] * t1[0] + e[1] * t1[1] + e[2] * t1[2];
+        state[1] = e[0] * t2[0] + e[1] * t2[1] + e[2] * t2[2];
+#endif
         const int status = fr_update(p, state, inc, next, frc);
         if (status < 0)
           error->one(FLERR, "pair_style " FR_STYLE ": the return map failed at the contact of "
                             "atoms {} and {} (increment {} {} {})", swap ? tag[j] : tag[i],
-                     swap ? tag[i] : tag[j], inc[0],
-                     inc[1], inc[2]);
+                     swap ? tag[i] : tag[j], inc[0], inc[1], inc[2]);
         const double T1 = frc[0], T2 = frc[1], N = frc[2];
-        for (int c = 0; c < 3; c++) g[c] = T1 * t1[c] + T2 * t2[c] - N * n[c];
-        if (commit) {
+        double de[3];    // the new elastic tangential displacement, global
+        for (int c = 0; c < 3; c++) {
+          g[c] = T1 * t1[c] - N * n[c];
+          de[c] = next[0] * t1[c];
+        }
+        if (!FR_ISOTROPIC || T2 != 0.0 || next[1] != 0.0) {
+          if (FR_ISOTROPIC) {
+            t2[0] = n[1] * t1[2] - n[2] * t1[1];
+            t2[1] = n[2] * t1[0] - n[0] * t1[2];
+            t2[2] = n[0] * t1[1] - n[1] * t1[0];
+          }
+          for (int c = 0; c < 3; c++) {
+            g[c] += T2 * t2[c];
+            de[c] += next[1] * t2[c];
+          }
+        }
+        if (COMMIT) {
           touch[jj] = 1;
           for (int c = 0; c < 3; c++) {
-            h[H_ET + c] = next[0] * t1[c] + next[1] * t2[c];
-            if (!project) h[H_N0 + c] = n[c];
+            h[H_ET + c] = de[c];
+            if (!PROJECT) h[H_N0 + c] = n[c];
           }
           const double diss = T1 * next[3] + T2 * next[4] - N * next[5];
           h[H_DISS] = fresh ? diss : h[H_DISS] + diss;
