@@ -171,8 +171,9 @@ def _job(folder, steps, swap=False):
     return job
 
 
-def _check(out, steps, law, swap=False, skin=0.0):
-    """Every step's force and moments against :class:`Reference`; returns the statuses."""
+def _check(out, steps, law, swap=False, skin=0.0, tally=True):
+    """Every step's force and moments against :class:`Reference`; returns the statuses.
+    ``tally=False``: the pair style ran with ``dissipation no`` (p3 and p4 are NaN)."""
     ref = Reference(law, skin)
     first, second = 0, 1    # the atom of lower ID, the other
     statuses, diss = [], 0.0
@@ -200,9 +201,12 @@ def _check(out, steps, law, swap=False, skin=0.0):
         row = out["local"][k][0]
         assert abs(row[0] - want[2]) <= 1e-10 * scale
         assert abs(row[1] - np.hypot(want[0], want[1])) <= 1e-10 * scale
-        assert row[2] == (1.0 if int(r.status) == 1 else 0.0)
-        # dissipation: force times displacement (the overlap, 0.01, as the length scale)
-        assert abs(row[3] - diss) <= 1e-10 * scale * 0.01 + 1e-9 * abs(diss)
+        if not tally:
+            assert np.isnan(row[2]) and np.isnan(row[3])
+        else:
+            assert row[2] == (1.0 if int(r.status) == 1 else 0.0)
+            # dissipation: force times displacement (the overlap, 0.01, as the length scale)
+            assert abs(row[3] - diss) <= 1e-10 * scale * 0.01 + 1e-9 * abs(diss)
         statuses.append(int(r.status))
     return statuses
 
@@ -232,6 +236,24 @@ def test_one_contact_turning_normal_follows_engine_kinematics(plugins, tmp_path,
     steps = turning_path(N_GENERIC)
     out = drive(install, tmp_path, _job(get(key), steps, swap=swap))
     statuses = _check(out, steps, LAWS[key], swap=swap)
+    assert 1 in statuses
+
+
+@pytest.mark.parametrize("key", ["coulomb", "elliptic", "hardening"])
+@pytest.mark.parametrize("path", ["fixed", "turning"])
+def test_without_dissipation_the_same_forces(plugins, tmp_path, key, path):
+    """``dissipation no`` (the history without the dissipation and the status): the forces and
+    moments of ContactModel.update on the same increments, as with the default, on both paths
+    (an isotropic law, Coulomb or the hardening one, takes its frame along the slip; the
+    elliptic law the reference axis's); p3 and p4 are NaN (not kept)."""
+    install, get = plugins
+    steps = (fixed_normal_path if path == "fixed" else turning_path)(N_GENERIC)
+    job = _job(get(key), steps)
+    style = (get(key) / "pair.lmp").read_text().splitlines()[1]
+    job["setup"].insert(job["setup"].index(f"include {get(key) / 'pair.lmp'}") + 1,
+                        style + " dissipation no")
+    out = drive(install, tmp_path, job)
+    statuses = _check(out, steps, LAWS[key], tally=False)
     assert 1 in statuses
 
 
@@ -270,6 +292,23 @@ def test_files_without_build_name_the_plugin_the_build_writes(tmp_path):
     for name in ("pair_frictionrules.h", "pair_frictionrules.cpp", "frictionrules_plugin.cpp"):
         assert (tmp_path / "x" / name).read_text() == (tmp_path / "y" / name).read_text()
     assert other.library is None
+
+
+@pytest.mark.parametrize("law, iso", [
+    (fr.Coulomb(0.3), 1), (fr.Coulomb(0.3, dilatant=True), 1), (HARDENING, 1),
+    (fr.EllipticOrthotropic(0.6, 0.3, angle=0.4), 0), (NONASSOC, 0),
+    # isotropic at these values only: pair_coeff may give others
+    (fr.UserLaw("sqrt((T1/mu_x)**2 + (T2/mu_y)**2) - N", params={"mu_x": 0.4, "mu_y": 0.4}), 0),
+])
+def test_isotropic_law_header(tmp_path, law, iso):
+    """FR_ISOTROPIC in frictionrules_law.h: f, g and the rates (4.5) depend on T through |T|
+    only, whatever the parameters, T2 dphi/dT1 - T1 dphi/dT2 = 0 for each (the pair style then
+    takes the frame along the slip)."""
+    from frictionrules._export._lammps import isotropic
+    from frictionrules._export._spec import law_spec
+    assert isotropic(law_spec(law, kt=KT, kn=KN)) == bool(iso)
+    fr.export(law, "lammps", tmp_path, kt=KT, kn=KN, name="law")
+    assert f"#define FR_ISOTROPIC {iso}" in (tmp_path / "frictionrules_law.h").read_text()
 
 
 @pytest.mark.parametrize("kwargs, text", [

@@ -95,8 +95,9 @@ def _run(install, folder, script, ranks=1):
 
 
 def test_coulomb_with_projected_history_equals_gran_hooke_history(setup, tmp_path):
-    """Coulomb μ = 0.3 (``history project``) and ``gran/hooke/history kn kt 0 0 0.3 0``: the
-    same trajectories after 1,000 steps, to round-off (the normal force comes from
+    """Coulomb μ = 0.3 (``history project``, with and without ``dissipation no``) and
+    ``gran/hooke/history kn kt 0 0 0.3 0``: the same trajectories after 1,000 steps, to
+    round-off (the normal force comes from
     ``de_n + Δδn`` here, from the overlap there: the last bits differ, and the dynamics amplify
     them, to about 1e-12 after 1,000 steps)."""
     install, data, pair = setup
@@ -106,9 +107,13 @@ def test_coulomb_with_projected_history_equals_gran_hooke_history(setup, tmp_pat
                   + f"pair_style gran/hooke/history {KN} {KT} 0.0 0.0 0.3 0\npair_coeff * *\n"
                   + _tail(1000))
     engine = _run(install, tmp_path / "engine", _head(data) + pair["coulomb"] + _tail(1000))
+    # without the dissipation and the status in the history: the same trajectories
+    lean = _run(install, tmp_path / "lean", _head(data) + ours_lines.replace(
+        "history project", "history project dissipation no") + _tail(1000))
     vscale = np.abs(theirs[:, 4:10]).max()
-    assert np.abs(ours[:, 1:4] - theirs[:, 1:4]).max() < 1e-9          # radii are ~1
-    assert np.abs(ours[:, 4:10] - theirs[:, 4:10]).max() < 1e-8 * vscale
+    for run in (ours, lean):
+        assert np.abs(run[:, 1:4] - theirs[:, 1:4]).max() < 1e-9          # radii are ~1
+        assert np.abs(run[:, 4:10] - theirs[:, 4:10]).max() < 1e-8 * vscale
     # the engine's kinematics differ in earnest (rotation, twist, first step): not round-off
     assert np.abs(engine[:, 4:10] - theirs[:, 4:10]).max() > 1e-4 * vscale
 

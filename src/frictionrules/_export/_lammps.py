@@ -30,8 +30,10 @@ __all__ = ["write_lammps", "lammps_snippet", "lammps_readme", "plugin_file", "HI
 #: (atom of lower ID first), so the transfer to the other atom of the pair copies it.
 HISTORY = (
     ("de_t", "vector (3)", "elastic tangential displacement, global components"),
-    ("dissipation", "scalar", "work dissipated by the contact since it formed"),
-    ("status", "scalar", "last update: 0 stick, 1 slip, 2 open"),
+    ("dissipation", "scalar", "work dissipated by the contact since it formed (not kept with "
+                              "`dissipation no`)"),
+    ("status", "scalar", "last update: 0 stick, 1 slip, 2 open (not kept with "
+                         "`dissipation no`)"),
 )
 #: Kept only by a law that slips normally (:func:`normal_slip`).
 HISTORY_NORMAL = ("dp_n", "scalar", "plastic normal displacement (positive opening: dilatancy)")
@@ -291,7 +293,11 @@ def lammps_readme(target, spec, written) -> str:
         "round-off); `skin S` (default 0), a contact keeps its history until its gap exceeds "
         "S (below); `affine yes|no` (default no), the box's velocity gradient `L l` in the "
         "tangential increment, for `fix deform ... remap x` only (LAMMPS stops with "
-        "`remap v`, whose velocities carry it already).",
+        "`remap v`, whose velocities carry it already); `dissipation yes|no` (default yes): "
+        "with `no` the history keeps neither the dissipation nor the status of the last "
+        "update (2 values fewer a contact, and less work: with `history project` the cost of "
+        "`gran/hooke/history`), and `compute pair/local` gets NaN for them (`p3`, `p4`); the "
+        "forces are the same.",
         "- `atom_style sphere`, `comm_modify vel yes` (ghost atoms carry velocities), "
         "`fix nve/sphere` (or another integrator of spheres with rotation).",
         "- `newton on` (LAMMPS's default) and `newton off` both work: with `newton off` a pair "
@@ -313,7 +319,12 @@ def lammps_readme(target, spec, written) -> str:
         "owns the pair (an anisotropic law sees the same frame whoever computes it).", "",
         "- normal `n = (x_b - x_a)/|x_b - x_a|`; frame `t1` = the unit projection of the "
         "reference axis on the contact plane (of the next global axis where the reference "
-        "axis is normal to the contact), `t2 = n × t1`;",
+        "axis is normal to the contact), `t2 = n × t1`"
+        + ("; this law depends on the tangential force through |T| only (`FR_ISOTROPIC 1` "
+           "in `frictionrules_law.h`: f, g and the rates are unchanged by a rotation of T, "
+           "whatever the parameters), so `t1` is taken along the trial's tangential "
+           "displacement instead (the reference axis where it is zero): the same forces, "
+           "fewer operations;" if isotropic(spec) else ";"),
         "- the stored elastic tangential displacement turns with the contact: by the rotation "
         "taking the previous normal to `n`, then about `n` by `dt (ω_a + ω_b)·n / 2`;",
         "- increment `Δδt = dt Q_t (v_b − v_a [+ L l] − (r_a ω_a + r_b ω_b) × n)` (`L l` with "
@@ -331,7 +342,8 @@ def lammps_readme(target, spec, written) -> str:
         "tangential increment of its first step.", "",
         "A failed return map (no convergence even after 2^10 substeps) stops LAMMPS "
         "(`error->one`) naming both atom IDs and the increment.", "",
-        f"## Per-contact history ({nhist} values, {nhist - 3} with `history project`)", "",
+        f"## Per-contact history ({nhist} values, {nhist - 3} with `history project`, 2 "
+        "fewer with `dissipation no`)", "",
         "Kept by LAMMPS's fix NEIGH_HISTORY (its ID is `NEIGH_HISTORY_FR0` for the first pair "
         "style instance), written to and read from restart files with the atoms. Every value "
         "is stored in the canonical orientation, so the pair style declares a non-default "
@@ -351,7 +363,8 @@ def lammps_readme(target, spec, written) -> str:
         "(plastic) else 0.0, `p4` = the dissipation accumulated by the contact "
         "(Σ T·Δδp_t − N Δδp_n)" + "".join(f", `p{5 + k}` = `{n}`"
                                             for k, n in enumerate(spec.state_names))
-        + ". Pairs out of contact give zeros.", "", "```text",
+        + ". Pairs out of contact give zeros. With `dissipation no`, `p3` and `p4` are NaN "
+        "(not kept).", "", "```text",
         "compute c all pair/local p1 p2 p3 p4",
         "compute s all reduce sum c_c[1] c_c[3] c_c[4] inputs local",
         "thermo_style custom step c_s[1] c_s[2] c_s[3]   # ΣN, sliding contacts, dissipation",

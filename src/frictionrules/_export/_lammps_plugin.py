@@ -143,13 +143,15 @@ class FR_CLASS : public Pair {
   class Fix *fix_history;    // the fix NEIGH_HISTORY holding every contact's history
   double axis[3];            // the frame's reference axis (unit)
   int project;               // history kept as LAMMPS's gran/hooke/history does (keyword)
+  int tally;                 // the history keeps the dissipation and the status (keyword)
   double skin;               // a contact with a history lives until its gap exceeds it
   int affine;                // add the box's velocity gradient L l to the increment
   double *coeffs;            // FR_NPARAMS values (kt, kn, law parameters) per type pair
   double maxrad;             // largest radius of any atom
   int stride;                // ntypes + 1 when allocated
   void allocate();
-  template <int COMMIT, int PROJECT, int AFFINE> void eval();
+  template <int TALLY> void dispatch();
+  template <int COMMIT, int PROJECT, int AFFINE, int TALLY> void eval();
   int nhistory() const;    // values per contact: FR_NHISTORY_PROJECT or _ROTATE
   std::string history_id() const { return "NEIGH_HISTORY_FR" + std::to_string(instance_me); }
   double *params(int itype, int jtype) const

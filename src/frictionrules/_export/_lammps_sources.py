@@ -1,6 +1,7 @@
 """The pair style of target ``lammps``: the same text for every law.
 
-``pair_frictionrules.cpp`` (its header is in :mod:`._lammps_plugin`): contact kinematics of the DEM engine,
+``pair_frictionrules.cpp`` (its header is in :mod:`._lammps_plugin`, its contact loop in
+:mod:`._lammps_loop`): contact kinematics of the DEM engine,
 the per-contact history in LAMMPS's fix NEIGH_HISTORY, restart, ``single()``. They see the law
 only through ``frictionrules_law.h`` (``FR_*``, written per law by :mod:`._lammps`): a new
 LAMMPS version changes the LAMMPS-facing texts (this module and :mod:`._lammps_plugin`), a new
@@ -12,8 +13,9 @@ style declares the few leading public members of the fix it reads (the layout is
 run time); built in a LAMMPS source tree (``CMakeLists.txt``) it includes LAMMPS's own header.
 """
 
-__all__ = ["PAIR_CPP"]
+from ._lammps_loop import PAIR_LOOP
 
+__all__ = ["PAIR_CPP"]
 
 PAIR_CPP = r"""/* pair_frictionrules.cpp -- a LAMMPS pair style running one frictionrules law at every contact.
    Written by frictionrules (MIT); it is compiled against LAMMPS (GPL-2.0) and the plugin built
@@ -87,35 +89,56 @@ struct FrNeighHistoryView : public Fix {
    (FR_NORMAL_SLIP: its potential depends on N); the elastic normal displacement never (the
    overlap less the plastic one), nor the force: it is the elastic response (4.2) to the
    elastic displacements, kt de_t - kn (gap - dp_n) n, zero where the contact opened; the
-   last normal only where the history turns with the contact (not with history project). */
+   last normal only where the history turns with the contact (not with history project); the
+   dissipation and the status of the last update only for compute pair/local (not with
+   dissipation no). */
 enum {
   H_ET = 0,        // elastic tangential displacement, global vector (3)
-  H_DISS = 3,      // dissipation accumulated by the contact
-  H_STATUS = 4,    // status of the last update: 0 stick, 1 slip, 2 open
-  H_PN = 5,        // plastic normal displacement (positive opening), if FR_NORMAL_SLIP
-  H_Q = 5 + FR_NORMAL_SLIP,            // the law's internal variables (FR_NQ)
-  H_N0 = 5 + FR_NORMAL_SLIP + FR_NQ    // normal of the last step (3), history rotate only
+  H_DISS = 3,      // dissipation accumulated by the contact, with dissipation yes
+  H_STATUS = 4     // status of the last update (0 stick, 1 slip, 2 open), with dissipation yes
 };
-#define FR_NHISTORY_PROJECT (5 + FR_NORMAL_SLIP + FR_NQ)
-#define FR_NHISTORY_ROTATE (FR_NHISTORY_PROJECT + 3)
+/* The offsets after them, for history project|rotate and dissipation yes|no. */
+struct FrLayout {
+  int pn;      // plastic normal displacement (positive opening), if FR_NORMAL_SLIP
+  int q;       // the law's internal variables (FR_NQ)
+  int n0;      // normal of the last step (3), history rotate only
+  int size;    // values per contact
+  constexpr FrLayout(int project, int tally) :
+      pn(3 + 2 * tally), q(3 + 2 * tally + FR_NORMAL_SLIP),
+      n0(3 + 2 * tally + FR_NORMAL_SLIP + FR_NQ),
+      size(3 + 2 * tally + FR_NORMAL_SLIP + FR_NQ + (project ? 0 : 3))
+  {
+  }
+};
 
 int FR_CLASS::nhistory() const
 {
-  return project ? FR_NHISTORY_PROJECT : FR_NHISTORY_ROTATE;
+  return FrLayout(project, tally).size;
 }
 
-/* The force on the atom of lower ID of a contact's last step (LAMMPS's setup and single()):
-   the elastic response to its elastic displacements at the normal n of that step. */
-static inline void fr_last_force(const double *h, const double *p, double gap, const double *n,
-                                 double *g)
+/* The normal force N (> 0 in compression) of a contact's last step: the elastic response to
+   its elastic normal displacement dn = gap - dp_n, zero where the last update opened the
+   contact (it left dn >= 0). */
+static inline double fr_last_normal(const double *h, int pn, const double *p, double gap)
 {
   double dn = gap;
 #if FR_NORMAL_SLIP
-  dn -= h[H_PN];
+  dn -= h[pn];
+#else
+  (void)h;
+  (void)pn;
 #endif
-  const double N = h[H_STATUS] == 2.0 ? 0.0 : -p[1] * dn;
-  const double kt = h[H_STATUS] == 2.0 ? 0.0 : p[0];
-  for (int c = 0; c < 3; c++) g[c] = kt * h[H_ET + c] - N * n[c];
+  return dn < 0.0 ? -p[1] * dn : 0.0;
+}
+
+/* The force on the atom of lower ID of a contact's last step (LAMMPS's setup): the elastic
+   response to its elastic displacements at the normal n of that step (an update that opened
+   the contact left de_t = 0). */
+static inline void fr_last_force(const double *h, int pn, const double *p, double gap,
+                                 const double *n, double *g)
+{
+  const double N = fr_last_normal(h, pn, p, gap);
+  for (int c = 0; c < 3; c++) g[c] = p[0] * h[H_ET + c] - N * n[c];
 }
 
 /* Velocity of b's contact point relative to a's, v_b - v_a - (r_a w_a + r_b w_b) x n, with
@@ -162,7 +185,7 @@ static inline void fr_turn(const double *u, const double *m, double k, const dou
 }
 
 FR_CLASS::FR_CLASS(LAMMPS *lmp) :
-    Pair(lmp), fix_history(nullptr), project(0), skin(0.0), affine(0), coeffs(nullptr),
+    Pair(lmp), fix_history(nullptr), project(0), tally(1), skin(0.0), affine(0), coeffs(nullptr),
     maxrad(0.0), stride(0)
 {
   single_enable = 1;
@@ -206,7 +229,7 @@ void FR_CLASS::allocate()
 }
 
 /* pair_style frictionrules/NAME [axis ax ay az] [history rotate|project] [skin S]
-   [affine yes|no] */
+   [affine yes|no] [dissipation yes|no] */
 void FR_CLASS::settings(int narg, char **arg)
 {
   int iarg = 0;
@@ -249,10 +272,18 @@ void FR_CLASS::settings(int narg, char **arg)
       if (iarg + 2 > narg) error->all(FLERR, "pair_style " FR_STYLE ": affine yes|no");
       affine = utils::logical(FLERR, arg[iarg + 1], false, lmp);
       iarg += 2;
+    } else if (strcmp(arg[iarg], "dissipation") == 0) {
+      if (iarg + 2 > narg) error->all(FLERR, "pair_style " FR_STYLE ": dissipation yes|no");
+      const int was = tally;
+      tally = utils::logical(FLERR, arg[iarg + 1], false, lmp);
+      if (fix_history != nullptr && tally != was)    // the history's length depends on it
+        error->all(FLERR, "pair_style " FR_STYLE ": dissipation yes|no cannot change once the "
+                          "pair style has run");
+      iarg += 2;
     } else {
       error->all(FLERR, std::string("pair_style " FR_STYLE ": unknown keyword ") + arg[iarg]
                         + " (keywords: axis ax ay az, history rotate|project, skin S, "
-                          "affine yes|no)");
+                          "affine yes|no, dissipation yes|no)");
     }
   }
 }
@@ -334,207 +365,17 @@ double FR_CLASS::init_one(int i, int j)
   return 2.0 * maxrad + skin;    // the neighbour list holds the contacts kept open
 }
 
-void FR_CLASS::compute(int eflag, int vflag)
-{
-  ev_init(eflag, vflag);
-  if (affine && domain->deform_vremap)    // the velocities carry the streaming part already
-    error->all(FLERR, "pair_style " FR_STYLE ": affine yes is for fix deform remap x, not remap v");
-  // setup (the forces of a run's first step) commits nothing: the force of a contact is the
-  // one of its last step, as LAMMPS's granular styles do. The modes are template parameters,
-  // so that the contact loop has no branch on them.
-  if (update->setupflag)
-    project ? eval<0, 1, 0>() : eval<0, 0, 0>();
-  else if (project)
-    affine ? eval<1, 1, 1>() : eval<1, 1, 0>();
-  else
-    affine ? eval<1, 0, 1>() : eval<1, 0, 0>();
-}
+"""
 
-/* The contact loop: COMMIT (not LAMMPS's setup: the history moves on), PROJECT (history
-   project), AFFINE (affine yes). */
-template <int COMMIT, int PROJECT, int AFFINE> void FR_CLASS::eval()
-{
-  const double dt = update->dt;
-  double **x = atom->x, **v = atom->v, **f = atom->f;
-  double **omega = atom->omega, **torque = atom->torque;
-  const double *radius = atom->radius;
-  const int *type = atom->type;
-  const tagint *tag = atom->tag;
-  const int nlocal = atom->nlocal;
-  const int newton_pair = force->newton_pair;
-  const int inum = list->inum;
-  const int *ilist = list->ilist, *numneigh = list->numneigh;
-  int **firstneigh = list->firstneigh;
-  auto view = static_cast<FR_HISTORY_FIX *>(fix_history);
-  int **firsttouch = view->firstflag;
-  double **firsthist = view->firstvalue;
-  const int onetype = atom->ntypes == 1;
-  const int stride = PROJECT ? FR_NHISTORY_PROJECT : FR_NHISTORY_ROTATE;
-  // L = h_rate h_inv (upper triangular, Voigt order xx yy zz yz xz xy), with affine yes
-  const double *hr = domain->h_rate, *hi = domain->h_inv;
-  const double L[6] = {hr[0] * hi[0], hr[1] * hi[1], hr[2] * hi[2], hr[1] * hi[3] + hr[3] * hi[2],
-                       hr[0] * hi[4] + hr[5] * hi[3] + hr[4] * hi[2], hr[0] * hi[5] + hr[5] * hi[1]};
-
-  for (int ii = 0; ii < inum; ii++) {
-    const int i = ilist[ii];
-    int *touch = firsttouch[i];
-    double *allhist = firsthist[i];
-    const int *jlist = firstneigh[i];
-    const int jnum = numneigh[i];
-    const double xi0 = x[i][0], xi1 = x[i][1], xi2 = x[i][2], ri = radius[i];
-    for (int jj = 0; jj < jnum; jj++) {
-      const int j = jlist[jj] & NEIGHMASK;
-      const double d0 = x[j][0] - xi0, d1 = x[j][1] - xi1, d2 = x[j][2] - xi2;
-      const double rsq = d0 * d0 + d1 * d1 + d2 * d2;
-      const double rj = radius[j], radsum = ri + rj, reach = radsum + skin;
-      if (rsq >= radsum * radsum && (!touch[jj] || !(skin > 0.0) || rsq > reach * reach)) {
-        touch[jj] = 0;    // not touching, or opened beyond the skin: a later contact starts afresh
-        continue;
-      }
-      double *h = allhist + static_cast<size_t>(stride) * jj;
-      const int swap = tag[i] > tag[j];
-      const double sg = swap ? -1.0 : 1.0;    // l = x_b - x_a = sg (x_j - x_i)
-      const double dist = sqrt(rsq), gap = dist - radsum, inv = sg / dist;
-      const double n[3] = {d0 * inv, d1 * inv, d2 * inv};
-      const int fresh = !touch[jj];
-      double g[3];
-      const double *p = onetype ? params(1, 1) : params(type[i], type[j]);
-      if (!COMMIT && !fresh) {
-        fr_last_force(h, p, gap, n, g);
-      } else {
-        double state[FR_NSTATE], next[FR_NSTATE], inc[3] = {0.0, 0.0, gap}, frc[3];
-        fr_initial_state(state);
-        // the trial's elastic tangential displacement as a global vector e: the stored one
-        // carried to this step's contact plane, plus the increment; the law's state holds it
-        // in the frame (t1, t2), de_n = dp = 0 (the increment carries the whole normal
-        // displacement, less the plastic one; the law never reads dp)
-        double e[3] = {0.0, 0.0, 0.0};
-        if (!fresh) {
-          if (PROJECT) {    // gran/hooke/history: projected on the new plane (below), no twist
-            for (int c = 0; c < 3; c++) e[c] = h[H_ET + c];
-          } else {
-            const double *n0 = h + H_N0;
-            const double m[3] = {n0[0] + n[0], n0[1] + n[1], n0[2] + n[2]};
-            const double c = 1.0 + n0[0] * n[0] + n0[1] * n[1] + n0[2] * n[2];
-            // the twist: an exact rotation by 2 atan(s), s = tan(theta/2) to O(theta^5)
-            double s = 0.25 * dt * ((omega[i][0] + omega[j][0]) * n[0]
-                                    + (omega[i][1] + omega[j][1]) * n[1]
-                                    + (omega[i][2] + omega[j][2]) * n[2]);
-            s += s * s * s * (1.0 / 3.0);
-            const double ss = 1.0 + s * s, r = 1.0 / (c * ss);    // one division for both
-            const double s2 = c * r;
-            fr_turn(h + H_ET, m, ss * r, n, (1.0 - s * s) * s2, 2.0 * s * s2, e);
-          }
-          for (int q = 0; q < FR_NQ; q++) state[6 + q] = h[H_Q + q];
-#if FR_NORMAL_SLIP
-          inc[2] = gap - h[H_PN];
-#endif
-        }
-        if (COMMIT && (PROJECT || !fresh)) {
-          // gran/hooke/history: the first step of a contact slides already
-          const double W[3] = {ri * omega[i][0] + rj * omega[j][0],
-                               ri * omega[i][1] + rj * omega[j][1],
-                               ri * omega[i][2] + rj * omega[j][2]};
-          double Ll[3] = {0.0, 0.0, 0.0};
-          if (AFFINE) {    // l = sg (x_j - x_i) = sg d
-            Ll[0] = sg * (L[0] * d0 + L[5] * d1 + L[4] * d2);
-            Ll[1] = sg * (L[1] * d1 + L[3] * d2);
-            Ll[2] = sg * L[2] * d2;
-          }
-          const double u[3] = FR_RELATIVE_VELOCITY;
-          for (int c = 0; c < 3; c++) e[c] += dt * u[c];
-        }
-        double t1[3], t2[3];
-#if FR_ISOTROPIC
-        // the law depends on the tangential force through |T| only: t1 along e (the law sees
-        // (|e|, 0)), the frame of the reference axis where e = 0
-        const double en = e[0] * n[0] + e[1] * n[1] + e[2] * n[2];
-        for (int c = 0; c < 3; c++) e[c] -= en * n[c];
-        const double es = sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
-        if (es > 0.0) {
-          const double ei = 1.0 / es;
-          for (int c = 0; c < 3; c++) t1[c] = e[c] * ei;
-        } else {
-          fr_frame(n[0], n[1], n[2], axis, t1);
-        }
-        state[0] = es;
-#else
-        fr_frame(n[0], n[1], n[2], axis, t1);
-        t2[0] = n[1] * t1[2] - n[2] * t1[1];
-        t2[1] = n[2] * t1[0] - n[0] * t1[2];
-        t2[2] = n[0] * t1[1] - n[1] * t1[0];
-        state[0] = e[0] * t1[0] + e[1] * t1[1] + e[2] * t1[2];
-        state[1] = e[0] * t2[0] + e[1] * t2[1] + e[2] * t2[2];
-#endif
-        const int status = fr_update(p, state, inc, next, frc);
-        if (status < 0)
-          error->one(FLERR, "pair_style " FR_STYLE ": the return map failed at the contact of "
-                            "atoms {} and {} (increment {} {} {})", swap ? tag[j] : tag[i],
-                     swap ? tag[i] : tag[j], inc[0], inc[1], inc[2]);
-        const double T1 = frc[0], T2 = frc[1], N = frc[2];
-        double de[3];    // the new elastic tangential displacement, global
-        for (int c = 0; c < 3; c++) {
-          g[c] = T1 * t1[c] - N * n[c];
-          de[c] = next[0] * t1[c];
-        }
-        if (!FR_ISOTROPIC || T2 != 0.0 || next[1] != 0.0) {
-          if (FR_ISOTROPIC) {
-            t2[0] = n[1] * t1[2] - n[2] * t1[1];
-            t2[1] = n[2] * t1[0] - n[0] * t1[2];
-            t2[2] = n[0] * t1[1] - n[1] * t1[0];
-          }
-          for (int c = 0; c < 3; c++) {
-            g[c] += T2 * t2[c];
-            de[c] += next[1] * t2[c];
-          }
-        }
-        if (COMMIT) {
-          touch[jj] = 1;
-          for (int c = 0; c < 3; c++) {
-            h[H_ET + c] = de[c];
-            if (!PROJECT) h[H_N0 + c] = n[c];
-          }
-          const double diss = T1 * next[3] + T2 * next[4] - N * next[5];
-          h[H_DISS] = fresh ? diss : h[H_DISS] + diss;
-          h[H_STATUS] = status;
-#if FR_NORMAL_SLIP
-          h[H_PN] = fresh ? next[5] : h[H_PN] + next[5];
-#endif
-          for (int q = 0; q < FR_NQ; q++) h[H_Q + q] = next[6 + q];
-        }
-      }
-      const double ng[3] = {n[1] * g[2] - n[2] * g[1], n[2] * g[0] - n[0] * g[2],
-                            n[0] * g[1] - n[1] * g[0]};
-      const double fi[3] = {sg * g[0], sg * g[1], sg * g[2]};    // g on a, -g on b
-      f[i][0] += fi[0];
-      f[i][1] += fi[1];
-      f[i][2] += fi[2];
-      torque[i][0] += ri * ng[0];
-      torque[i][1] += ri * ng[1];
-      torque[i][2] += ri * ng[2];
-      if (newton_pair || j < nlocal) {
-        f[j][0] -= fi[0];
-        f[j][1] -= fi[1];
-        f[j][2] -= fi[2];
-        torque[j][0] += rj * ng[0];
-        torque[j][1] += rj * ng[1];
-        torque[j][2] += rj * ng[2];
-      }
-      if (evflag)
-        ev_tally_xyz(i, j, nlocal, newton_pair, 0.0, 0.0, fi[0], fi[1], fi[2], -d0, -d1, -d2);
-    }
-  }
-}
-
-/* The history is kept in the canonical orientation: the other atom of the pair gets a copy. */
+PAIR_CPP += PAIR_LOOP + r"""/* The history is kept in the canonical orientation: the other atom of the pair gets a copy. */
 void FR_CLASS::transfer_history(double *source, double *target, int, int)
 {
   const int nh = nhistory();
   for (int k = 0; k < nh; k++) target[k] = source[k];
 }
 
-/* svector = N (> 0 in compression), |T|, 1 if the last update slid, accumulated dissipation,
-   then the law's internal variables. */
+/* svector = N (> 0 in compression), |T|, 1 if the last update slid, accumulated dissipation
+   (these two NaN with dissipation no: not kept), then the law's internal variables. */
 double FR_CLASS::single(int i, int j, int, int, double rsq, double, double, double &fforce)
 {
   for (int k = 0; k < 4 + FR_NQ; k++) svector[k] = 0.0;
@@ -547,21 +388,17 @@ double FR_CLASS::single(int i, int j, int, int, double rsq, double, double, doub
   for (int jj = 0; jj < jnum; jj++) {
     if ((jlist[jj] & NEIGHMASK) != j) continue;
     if (!view->firstflag[i][jj]) return 0.0;
-    const double *h = view->firstvalue[i] + static_cast<size_t>(nhistory()) * jj;
+    const FrLayout H(project, tally);
+    const double *h = view->firstvalue[i] + static_cast<size_t>(H.size) * jj;
     // N and |T| of the last step's force, from the elastic displacements
     const double dist = sqrt(rsq);
-    double dn = dist - radsum;
-#if FR_NORMAL_SLIP
-    dn -= h[H_PN];
-#endif
     const double *p = params(atom->type[i], atom->type[j]);
-    const double N = h[H_STATUS] == 2.0 ? 0.0 : -p[1] * dn;
-    const double kt = h[H_STATUS] == 2.0 ? 0.0 : p[0];
+    const double N = fr_last_normal(h, H.pn, p, dist - radsum);
     svector[0] = N;
-    svector[1] = kt * sqrt(h[H_ET] * h[H_ET] + h[H_ET + 1] * h[H_ET + 1] + h[H_ET + 2] * h[H_ET + 2]);
-    svector[2] = h[H_STATUS] == 1.0 ? 1.0 : 0.0;
-    svector[3] = h[H_DISS];
-    for (int q = 0; q < FR_NQ; q++) svector[4 + q] = h[H_Q + q];
+    svector[1] = p[0] * sqrt(h[H_ET] * h[H_ET] + h[H_ET + 1] * h[H_ET + 1] + h[H_ET + 2] * h[H_ET + 2]);
+    svector[2] = tally ? (h[H_STATUS] == 1.0 ? 1.0 : 0.0) : NAN;
+    svector[3] = tally ? h[H_DISS] : NAN;
+    for (int q = 0; q < FR_NQ; q++) svector[4 + q] = h[H.q + q];
     fforce = N / dist;
     return 0.0;
   }
@@ -601,23 +438,24 @@ void FR_CLASS::read_restart(FILE *fp)
 
 void FR_CLASS::write_restart_settings(FILE *fp)
 {
-  const int sizes[4] = {FR_NPARAMS, nhistory(), project, affine};
-  fwrite(sizes, sizeof(int), 4, fp);
+  const int sizes[5] = {FR_NPARAMS, nhistory(), project, affine, tally};
+  fwrite(sizes, sizeof(int), 5, fp);
   fwrite(axis, sizeof(double), 3, fp);
   fwrite(&skin, sizeof(double), 1, fp);
 }
 
 void FR_CLASS::read_restart_settings(FILE *fp)
 {
-  int sizes[4] = {0, 0, 0, 0};
+  int sizes[5] = {0, 0, 0, 0, 0};
   if (comm->me == 0) {
-    utils::sfread(FLERR, sizes, sizeof(int), 4, fp, nullptr, error);
+    utils::sfread(FLERR, sizes, sizeof(int), 5, fp, nullptr, error);
     utils::sfread(FLERR, axis, sizeof(double), 3, fp, nullptr, error);
     utils::sfread(FLERR, &skin, sizeof(double), 1, fp, nullptr, error);
   }
-  MPI_Bcast(sizes, 4, MPI_INT, 0, world);
+  MPI_Bcast(sizes, 5, MPI_INT, 0, world);
   project = sizes[2];
   affine = sizes[3];
+  tally = sizes[4];
   MPI_Bcast(axis, 3, MPI_DOUBLE, 0, world);
   MPI_Bcast(&skin, 1, MPI_DOUBLE, 0, world);
   beyond_contact = skin > 0.0 ? 1 : 0;

@@ -1,0 +1,216 @@
+"""The contact loop of target ``lammps``'s pair style (``compute``: the same text for every
+law), a part of ``pair_frictionrules.cpp`` (:mod:`._lammps_sources` puts it together).
+
+The modes (setup or a step, ``history project|rotate``, ``affine``, ``dissipation``) are
+template parameters, so that the loop over contacts has no branch on them. The law comes in
+through ``frictionrules_law.h``: ``fr_update`` (for a law with a radial return its structured
+return, compiled inline) and ``FR_ISOTROPIC`` (a law that depends on T through |T| only: the
+frame along the trial's tangential displacement).
+"""
+
+__all__ = ["PAIR_LOOP"]
+
+PAIR_LOOP = r"""void FR_CLASS::compute(int eflag, int vflag)
+{
+  ev_init(eflag, vflag);
+  if (affine && domain->deform_vremap)    // the velocities carry the streaming part already
+    error->all(FLERR, "pair_style " FR_STYLE ": affine yes is for fix deform remap x, not remap v");
+  // setup (the forces of a run's first step) commits nothing: the force of a contact is the
+  // one of its last step, as LAMMPS's granular styles do. The modes are template parameters,
+  // so that the contact loop has no branch on them.
+  if (tally)
+    dispatch<1>();
+  else
+    dispatch<0>();
+}
+
+template <int TALLY> void FR_CLASS::dispatch()
+{
+  if (update->setupflag)
+    project ? eval<0, 1, 0, TALLY>() : eval<0, 0, 0, TALLY>();
+  else if (project)
+    affine ? eval<1, 1, 1, TALLY>() : eval<1, 1, 0, TALLY>();
+  else
+    affine ? eval<1, 0, 1, TALLY>() : eval<1, 0, 0, TALLY>();
+}
+
+/* The contact loop: COMMIT (not LAMMPS's setup: the history moves on), PROJECT (history
+   project), AFFINE (affine yes), TALLY (dissipation yes). */
+template <int COMMIT, int PROJECT, int AFFINE, int TALLY> void FR_CLASS::eval()
+{
+  constexpr FrLayout H(PROJECT, TALLY);
+  const double dt = update->dt;
+  double **x = atom->x, **v = atom->v, **f = atom->f;
+  double **omega = atom->omega, **torque = atom->torque;
+  const double *radius = atom->radius;
+  const int *type = atom->type;
+  const tagint *tag = atom->tag;
+  const int nlocal = atom->nlocal;
+  const int newton_pair = force->newton_pair;
+  const int inum = list->inum;
+  const int *ilist = list->ilist, *numneigh = list->numneigh;
+  int **firstneigh = list->firstneigh;
+  auto view = static_cast<FR_HISTORY_FIX *>(fix_history);
+  int **firsttouch = view->firstflag;
+  double **firsthist = view->firstvalue;
+  const int onetype = atom->ntypes == 1;
+  const int stride = H.size;
+  // L = h_rate h_inv (upper triangular, Voigt order xx yy zz yz xz xy), with affine yes
+  const double *hr = domain->h_rate, *hi = domain->h_inv;
+  const double L[6] = {hr[0] * hi[0], hr[1] * hi[1], hr[2] * hi[2], hr[1] * hi[3] + hr[3] * hi[2],
+                       hr[0] * hi[4] + hr[5] * hi[3] + hr[4] * hi[2], hr[0] * hi[5] + hr[5] * hi[1]};
+
+  for (int ii = 0; ii < inum; ii++) {
+    const int i = ilist[ii];
+    int *touch = firsttouch[i];
+    double *allhist = firsthist[i];
+    const int *jlist = firstneigh[i];
+    const int jnum = numneigh[i];
+    const double xi0 = x[i][0], xi1 = x[i][1], xi2 = x[i][2], ri = radius[i];
+    for (int jj = 0; jj < jnum; jj++) {
+      const int j = jlist[jj] & NEIGHMASK;
+      const double d0 = x[j][0] - xi0, d1 = x[j][1] - xi1, d2 = x[j][2] - xi2;
+      const double rsq = d0 * d0 + d1 * d1 + d2 * d2;
+      const double rj = radius[j], radsum = ri + rj, reach = radsum + skin;
+      if (rsq >= radsum * radsum && (!touch[jj] || !(skin > 0.0) || rsq > reach * reach)) {
+        touch[jj] = 0;    // not touching, or opened beyond the skin: a later contact starts afresh
+        continue;
+      }
+      double *h = allhist + static_cast<size_t>(stride) * jj;
+      const int swap = tag[i] > tag[j];
+      const double sg = swap ? -1.0 : 1.0;    // l = x_b - x_a = sg (x_j - x_i)
+      const double dist = sqrt(rsq), gap = dist - radsum, inv = sg / dist;
+      const double n[3] = {d0 * inv, d1 * inv, d2 * inv};
+      const int fresh = !touch[jj];
+      double g[3];
+      const double *p = onetype ? params(1, 1) : params(type[i], type[j]);
+      if (!COMMIT && !fresh) {
+        fr_last_force(h, H.pn, p, gap, n, g);
+      } else {
+        double state[FR_NSTATE], next[FR_NSTATE], inc[3] = {0.0, 0.0, gap}, frc[3];
+        fr_initial_state(state);
+        // the trial's elastic tangential displacement as a global vector e: the stored one
+        // carried to this step's contact plane, plus the increment; the law's state holds it
+        // in the frame (t1, t2), de_n = dp = 0 (the increment carries the whole normal
+        // displacement, less the plastic one; the law never reads dp)
+        double e[3] = {0.0, 0.0, 0.0};
+        if (!fresh) {
+          if (PROJECT) {    // gran/hooke/history: projected on the new plane (below), no twist
+            for (int c = 0; c < 3; c++) e[c] = h[H_ET + c];
+          } else {
+            const double *n0 = h + H.n0;
+            const double m[3] = {n0[0] + n[0], n0[1] + n[1], n0[2] + n[2]};
+            const double c = 1.0 + n0[0] * n[0] + n0[1] * n[1] + n0[2] * n[2];
+            // the twist: an exact rotation by 2 atan(s), s = tan(theta/2) to O(theta^5)
+            double s = 0.25 * dt * ((omega[i][0] + omega[j][0]) * n[0]
+                                    + (omega[i][1] + omega[j][1]) * n[1]
+                                    + (omega[i][2] + omega[j][2]) * n[2]);
+            s += s * s * s * (1.0 / 3.0);
+            const double ss = 1.0 + s * s, r = 1.0 / (c * ss);    // one division for both
+            const double s2 = c * r;
+            fr_turn(h + H_ET, m, ss * r, n, (1.0 - s * s) * s2, 2.0 * s * s2, e);
+          }
+          for (int q = 0; q < FR_NQ; q++) state[6 + q] = h[H.q + q];
+#if FR_NORMAL_SLIP
+          inc[2] = gap - h[H.pn];
+#endif
+        }
+        if (COMMIT && (PROJECT || !fresh)) {
+          // gran/hooke/history: the first step of a contact slides already
+          const double W[3] = {ri * omega[i][0] + rj * omega[j][0],
+                               ri * omega[i][1] + rj * omega[j][1],
+                               ri * omega[i][2] + rj * omega[j][2]};
+          double Ll[3] = {0.0, 0.0, 0.0};
+          if (AFFINE) {    // l = sg (x_j - x_i) = sg d
+            Ll[0] = sg * (L[0] * d0 + L[5] * d1 + L[4] * d2);
+            Ll[1] = sg * (L[1] * d1 + L[3] * d2);
+            Ll[2] = sg * L[2] * d2;
+          }
+          const double u[3] = FR_RELATIVE_VELOCITY;
+          for (int c = 0; c < 3; c++) e[c] += dt * u[c];
+        }
+        double t1[3], t2[3];
+#if FR_ISOTROPIC
+        // the law depends on the tangential force through |T| only: t1 along e (the law sees
+        // (|e|, 0)), the frame of the reference axis where e = 0
+        const double en = e[0] * n[0] + e[1] * n[1] + e[2] * n[2];
+        for (int c = 0; c < 3; c++) e[c] -= en * n[c];
+        const double es = sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+        if (es > 0.0) {
+          const double ei = 1.0 / es;
+          for (int c = 0; c < 3; c++) t1[c] = e[c] * ei;
+        } else {
+          fr_frame(n[0], n[1], n[2], axis, t1);
+        }
+        state[0] = es;
+#else
+        fr_frame(n[0], n[1], n[2], axis, t1);
+        t2[0] = n[1] * t1[2] - n[2] * t1[1];
+        t2[1] = n[2] * t1[0] - n[0] * t1[2];
+        t2[2] = n[0] * t1[1] - n[1] * t1[0];
+        state[0] = e[0] * t1[0] + e[1] * t1[1] + e[2] * t1[2];
+        state[1] = e[0] * t2[0] + e[1] * t2[1] + e[2] * t2[2];
+#endif
+        const int status = fr_update(p, state, inc, next, frc);
+        if (status < 0)
+          error->one(FLERR, "pair_style " FR_STYLE ": the return map failed at the contact of "
+                            "atoms {} and {} (increment {} {} {})", swap ? tag[j] : tag[i],
+                     swap ? tag[i] : tag[j], inc[0], inc[1], inc[2]);
+        const double T1 = frc[0], T2 = frc[1], N = frc[2];
+        double de[3];    // the new elastic tangential displacement, global
+        for (int c = 0; c < 3; c++) {
+          g[c] = T1 * t1[c] - N * n[c];
+          de[c] = next[0] * t1[c];
+        }
+        if (!FR_ISOTROPIC || T2 != 0.0 || next[1] != 0.0) {
+          if (FR_ISOTROPIC) {
+            t2[0] = n[1] * t1[2] - n[2] * t1[1];
+            t2[1] = n[2] * t1[0] - n[0] * t1[2];
+            t2[2] = n[0] * t1[1] - n[1] * t1[0];
+          }
+          for (int c = 0; c < 3; c++) {
+            g[c] += T2 * t2[c];
+            de[c] += next[1] * t2[c];
+          }
+        }
+        if (COMMIT) {
+          touch[jj] = 1;
+          for (int c = 0; c < 3; c++) {
+            h[H_ET + c] = de[c];
+            if (!PROJECT) h[H.n0 + c] = n[c];
+          }
+          if (TALLY) {
+            const double diss = T1 * next[3] + T2 * next[4] - N * next[5];
+            h[H_DISS] = fresh ? diss : h[H_DISS] + diss;
+            h[H_STATUS] = status;
+          }
+#if FR_NORMAL_SLIP
+          h[H.pn] = fresh ? next[5] : h[H.pn] + next[5];
+#endif
+          for (int q = 0; q < FR_NQ; q++) h[H.q + q] = next[6 + q];
+        }
+      }
+      const double ng[3] = {n[1] * g[2] - n[2] * g[1], n[2] * g[0] - n[0] * g[2],
+                            n[0] * g[1] - n[1] * g[0]};
+      const double fi[3] = {sg * g[0], sg * g[1], sg * g[2]};    // g on a, -g on b
+      f[i][0] += fi[0];
+      f[i][1] += fi[1];
+      f[i][2] += fi[2];
+      torque[i][0] += ri * ng[0];
+      torque[i][1] += ri * ng[1];
+      torque[i][2] += ri * ng[2];
+      if (newton_pair || j < nlocal) {
+        f[j][0] -= fi[0];
+        f[j][1] -= fi[1];
+        f[j][2] -= fi[2];
+        torque[j][0] += rj * ng[0];
+        torque[j][1] += rj * ng[1];
+        torque[j][2] += rj * ng[2];
+      }
+      if (evflag)
+        ev_tally_xyz(i, j, nlocal, newton_pair, 0.0, 0.0, fi[0], fi[1], fi[2], -d0, -d1, -d2);
+    }
+  }
+}
+
+"""
