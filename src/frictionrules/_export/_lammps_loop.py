@@ -53,7 +53,11 @@ template <int COMMIT, int PROJECT, int AFFINE, int TALLY> void FR_CLASS::eval()
   auto view = static_cast<FR_HISTORY_FIX *>(fix_history);
   int **firsttouch = view->firstflag;
   double **firsthist = view->firstvalue;
-  const int onetype = atom->ntypes == 1;
+  // members copied to locals: the stores of the loop could alias them otherwise (reloads)
+  const double *p1 = atom->ntypes == 1 ? params(1, 1) : nullptr;
+  const double skin = this->skin;
+  const int reach_on = skin > 0.0;
+  const double axis[3] = {this->axis[0], this->axis[1], this->axis[2]};
   const int stride = H.size;
   // L = h_rate h_inv (upper triangular, Voigt order xx yy zz yz xz xy), with affine yes
   const double *hr = domain->h_rate, *hi = domain->h_inv;
@@ -72,7 +76,7 @@ template <int COMMIT, int PROJECT, int AFFINE, int TALLY> void FR_CLASS::eval()
       const double d0 = x[j][0] - xi0, d1 = x[j][1] - xi1, d2 = x[j][2] - xi2;
       const double rsq = d0 * d0 + d1 * d1 + d2 * d2;
       const double rj = radius[j], radsum = ri + rj, reach = radsum + skin;
-      if (rsq >= radsum * radsum && (!touch[jj] || !(skin > 0.0) || rsq > reach * reach)) {
+      if (rsq >= radsum * radsum && (!touch[jj] || !reach_on || rsq > reach * reach)) {
         touch[jj] = 0;    // not touching, or opened beyond the skin: a later contact starts afresh
         continue;
       }
@@ -83,7 +87,7 @@ template <int COMMIT, int PROJECT, int AFFINE, int TALLY> void FR_CLASS::eval()
       const double n[3] = {d0 * inv, d1 * inv, d2 * inv};
       const int fresh = !touch[jj];
       double g[3];
-      const double *p = onetype ? params(1, 1) : params(type[i], type[j]);
+      const double *p = p1 ? p1 : params(type[i], type[j]);
       if (!COMMIT && !fresh) {
         fr_last_force(h, H.pn, p, gap, n, g);
       } else {
