@@ -66,12 +66,6 @@ def _copy(src, dst):
         dst[k] = src[k]
 
 
-@njit(cache=True)
-def _error(indptr, indices, data, q, mu, dil, r, norm_q):
-    err, u = K.fc3d_error_kernel(indptr, indices, data, q, mu, dil, r, norm_q)
-    return err, u
-
-
 @njit(inline="always")
 def _polish(indptr, indices, data, q, mu, dil, r, tol, max_iter, norm_q, hist_err, hist_it, nh, offset,
             contraction, patience, max_halvings):
@@ -88,7 +82,7 @@ def _polish(indptr, indices, data, q, mu, dil, r, tol, max_iter, norm_q, hist_er
     for a in range(nc):
         tr = abs(D[a, 0, 0] + D[a, 1, 1] + D[a, 2, 2]) / 3.0
         rho[a] = 1.0 / tr if tr > 0.0 else 1.0
-    err, u = _error(indptr, indices, data, q, mu, dil, r, norm_q)
+    err, u = K.fc3d_error_kernel(indptr, indices, data, q, mu, dil, r, norm_q)
     if max_iter <= 0 or err <= tol:
         return 0, err, nh, hist_err, hist_it
     J = np.empty((n, n))
@@ -109,7 +103,7 @@ def _polish(indptr, indices, data, q, mu, dil, r, tol, max_iter, norm_q, hist_er
         accepted = False
         for _ in range(max_halvings + 1):
             rn = r + alpha * dx
-            en, un = _error(indptr, indices, data, q, mu, dil, rn, norm_q)
+            en, un = K.fc3d_error_kernel(indptr, indices, data, q, mu, dil, rn, norm_q)
             if en < err:
                 accepted = True
                 break
@@ -174,7 +168,7 @@ def _finish(indptr, indices, data, q, mu, dil, r, u, D, norm_q, err, r_bound_fac
             acc += data[k] * r[indices[k]]
         u[i] = acc
     if not np.isfinite(err):
-        err, _u = _error(indptr, indices, data, q, mu, dil, r, norm_q)
+        err, _u = K.fc3d_error_kernel(indptr, indices, data, q, mu, dil, r, norm_q)
     mean_diag, count = 0.0, 0
     for a in range(nc):
         for l in range(3):
