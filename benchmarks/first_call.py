@@ -4,7 +4,10 @@ Each command runs as its own process, the way a user types it, with ``NUMBA_CACH
 ``FRICTIONRULES_CACHE_DIR`` set to a new empty folder (the first call: everything compiled),
 then again with the same folders (later calls: the compiled kernels loaded from the cache).
 The time is the whole process as ``time`` measures it: wall time, and the user + system CPU
-time of the process and its children.
+time of the process and its children. Each source is copied and its bytecode compiled before
+(``compileall``, as ``pip install`` does), so that a call reads it also where the environment
+sets ``PYTHONDONTWRITEBYTECODE`` (which would otherwise make every call compile the package's
+sources, a tenth of a second).
 
 ``--source LABEL=DIR`` (repeatable) runs the same commands with ``PYTHONPATH=DIR`` for each
 label, interleaved (every command: first label cold and warm, then the next label), so that a
@@ -80,16 +83,22 @@ def main() -> None:
     sources = [s.split("=", 1) for s in (args.source or [f"this checkout={ROOT / 'src'}"])]
     rows = []
     with tempfile.TemporaryDirectory(prefix="first-call-") as scratch:
+        installed = {}
+        for label, src in sources:          # a copy with the bytecode an installation has
+            installed[label] = Path(scratch) / f"src-{label}"
+            shutil.copytree(Path(src).resolve(), installed[label], ignore=shutil.ignore_patterns("__pycache__"))
+            subprocess.run([sys.executable, "-m", "compileall", "-q", str(installed[label])], check=True,
+                           stdout=subprocess.DEVNULL)
         names = list(commands(Path(scratch)))
         if args.only:
             names = [n for n in names if any(n.startswith(o.strip()) for o in args.only.split(","))]
         for name in names:
             for rnd in range(args.rounds):
-                for label, src in sources:
+                for label, _src in sources:
                     tmp = Path(scratch) / f"{label}-{rnd}-{names.index(name)}"
                     for sub in ("first", "again"):      # outputs apart: a run file would resume
                         (tmp / sub).mkdir(parents=True)
-                    env = dict(os.environ, PYTHONPATH=str(Path(src).resolve()), MPLBACKEND="Agg",
+                    env = dict(os.environ, PYTHONPATH=str(installed[label]), MPLBACKEND="Agg",
                                NUMBA_CACHE_DIR=str(tmp / "numba"), FRICTIONRULES_CACHE_DIR=str(tmp / "kernels"))
                     load = os.getloadavg()[0]
                     cold = run_once(commands(tmp / "first")[name], env, args.timeout)
@@ -103,7 +112,8 @@ def main() -> None:
                 ["command", "source", "first: wall s", "first: CPU s", "again: wall s", "again: CPU s",
                  "exit codes", "load avg (1 min) at start"], rows,
                 notes="Each call is a new process, `python -m frictionrules ...`, timed as a whole "
-                      "(wall; CPU = user + system of the process and its children). 'first': "
+                      "(wall; CPU = user + system of the process and its children), from a copy of the "
+                      "source with its bytecode compiled (as installed). 'first': "
                       "NUMBA_CACHE_DIR and FRICTIONRULES_CACHE_DIR in a new empty folder; 'again': the "
                       "same call with the same folders. Exit code -1: stopped after --timeout seconds. "
                       f"{os.cpu_count()} logical processors; the load average is that of the whole "

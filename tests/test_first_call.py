@@ -50,14 +50,18 @@ _SMALL_BATCH = """
 def test_a_second_process_loads_the_small_path_from_numbas_cache(tmp_path):
     """A fresh interpreter with an empty ``NUMBA_CACHE_DIR`` compiles the small-problem path
     of :func:`~frictionrules.solve_batch` (Numba's ``cache_misses``) and writes it to the cache;
-    a second interpreter with the same folder loads it (``cache_hits``) and compiles nothing."""
+    a second interpreter with the same folder loads it (``cache_hits``) and compiles nothing.
+    A problem the sweeps solve (one contact: one exact local solve) compiles the sweeps alone,
+    never the polish (``small_solve_many``, ``natural_map``, ``min_norm_solve``: no signature)."""
     first = json.loads(_python(_SMALL_BATCH, tmp_path))
     second = json.loads(_python(_SMALL_BATCH, tmp_path))
     assert first["converged"] and second["converged"]
-    assert first["stats"]["frictionrules.multicontact._small.small_solve_many"][1] == 1
-    entry = second["stats"]["frictionrules.multicontact._small.small_solve_many"]
+    assert first["stats"]["frictionrules.multicontact._small.sweeps_many"][1] == 1
+    entry = second["stats"]["frictionrules.multicontact._small.sweeps_many"]
     assert entry[0] == 1 and entry[1] == 0
     assert all(misses == 0 for _hits, misses, _sigs in second["stats"].values())
+    for name in ("_small.small_solve_many", "_kernels.natural_map", "_lapack.min_norm_solve"):
+        assert first["stats"][f"frictionrules.multicontact.{name}"][2] == []
     # one signature for the entry point, and no literal specialisation anywhere it was compiled
     assert len(entry[2]) == 1
     assert not any("Literal" in s for _h, _m, sigs in first["stats"].values() for s in sigs)

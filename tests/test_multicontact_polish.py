@@ -262,6 +262,61 @@ def test_small_path_keeps_a_history_longer_than_its_buffers(warm):
     np.testing.assert_allclose(s.r, general.r, rtol=0.0, atol=1e-12 * np.abs(general.r).max())
 
 
+def test_small_path_history_is_kept_when_its_buffers_grew_but_it_fits():
+    """A run of more than one chunk of sweeps (``_small.CHUNK``) grows the history buffers
+    before each chunk that might outgrow them; a history that ends up fitting the caller's
+    buffers is copied back from the grown ones: finite errors, strictly increasing iterations
+    ending at the run's, and the last error the run's (NSGS runs of 2000 sweeps to a tolerance
+    they do not reach)."""
+    rng = np.random.default_rng(11)
+    checked = 0
+    for _ in range(16):
+        nc = int(rng.integers(4, 9))
+        A = rng.normal(size=(3 * nc, 3 * nc - 6))
+        p = FrictionContactProblem(A @ A.T / (3 * nc) + 1e-9 * np.eye(3 * nc), rng.normal(size=3 * nc),
+                                   rng.uniform(0.1, 0.9, nc))
+        s = solve(p, method="nsgs", tol=1e-12, max_iter=2000)
+        if s.iterations <= 256 or s.history.size > 256:
+            continue
+        checked += 1
+        assert np.all(np.isfinite(s.history)) and np.all(np.diff(s.history_iterations) > 0)
+        assert s.history_iterations[-1] == s.iterations and s.history[-1] == s.error
+    assert checked >= 1
+
+
+def test_small_path_goes_on_after_its_sweeps_as_one_run_from_the_start():
+    """The small path runs the sweeps alone first (all of ``nsgs``, the probe of ``auto``) and
+    compiles the polish only for a problem that goes on after them: ``auto`` resumed from the
+    state the sweeps left (:func:`_small.solve_into` with ``ns = 1``) is the run from the start
+    in one compiled call (``ns = 0``), to the bit: reactions, velocities, error, iterations,
+    stages and history."""
+    from frictionrules.multicontact import _small
+    rng = np.random.default_rng(11)
+    went_on = 0
+    for _ in range(12):
+        nc = int(rng.integers(4, 9))
+        A = rng.normal(size=(3 * nc, 3 * nc - 6))                    # W singular but for 1e-9 I
+        p = FrictionContactProblem(A @ A.T / (3 * nc) + 1e-9 * np.eye(3 * nc), rng.normal(size=3 * nc),
+                                   rng.uniform(0.1, 0.9, nc))
+        W, n, size, mode, tol, max_iter = p.W, 3 * p.nc, _small.HISTORY, _small.MODES["auto"], 1e-12, 2000
+        common = (W.indptr, W.indices, W.data, p.q, p.mu_bar, p.dilatancy, np.empty(0))
+        polish = _small.POLISH_DEFAULTS
+        tail = (tol, max_iter, mode, polish.contraction, polish.patience, polish.max_halvings, _small.UNBOUNDED)
+        whole, whole_it = np.empty(2 * n + size), np.empty(size, np.int64)
+        a = _small.solve_into(*common, whole, whole_it, *tail, 0, 0, 0, np.inf)
+        out, out_it = np.empty(2 * n + size), np.empty(size, np.int64)
+        it, _err, _bounded, stage_err, nh = _small.sweeps_into(*common, out, out_it, tol,
+                                                               min(_small.AUTO_PROBE, max_iter), _small.UNBOUNDED)
+        if not _small.goes_on(mode, stage_err, tol, it, max_iter):
+            continue
+        went_on += 1
+        b = _small.solve_into(*common, out, out_it, *tail, 1, it, nh, stage_err)
+        assert a == b and a[3] >= 2
+        np.testing.assert_array_equal(whole[:2 * n + a[4]], out[:2 * n + b[4]])
+        np.testing.assert_array_equal(whole_it[:a[4]], out_it[:b[4]])
+    assert went_on >= 3
+
+
 def test_small_path_reads_the_initial_reactions_without_writing_them():
     """The small path copies ``r0`` into its compiled call's buffer: the caller's array is
     left as it was, and a read-only one gives the same answer without compiling another

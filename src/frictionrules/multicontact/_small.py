@@ -1,5 +1,5 @@
 r"""The small-problem path of :func:`~frictionrules.solve`: up to :data:`SMALL_MAX` contacts,
-the whole solve in one compiled call.
+the whole solve in one or two compiled calls.
 
 A physics step, a calibration or a sweep over thousands of small problems pays a solver's
 set-up at every call; here the set-up (diagonal blocks, norms), the iterations and the final
@@ -10,6 +10,13 @@ dense Newton steps on the natural map (:func:`._kernels.natural_map`) with LAPAC
 solve (:func:`._lapack.min_norm_solve`, NumPy's ``lstsq``: the minimum-norm step where J is
 singular). ``auto`` runs at most ``AUTO_PROBE`` sweeps,
 the polish, then sweeps to the end of its budget and the polish again.
+
+The sweeps (all of ``nsgs``, the probe of ``auto``) are one compiled call of their own
+(:func:`sweeps_into`, :func:`sweeps_many`), and the polish with what follows it a second one
+that goes on from their state (:func:`solve_into`, :func:`small_solve_many`), called only for a
+problem that needs it: a first run on a problem the sweeps solve (CubeH8, one contact) compiles
+no polish, 5 of its 13 s of CPU before (under load). The answer is that of one run from the
+start, to the bit.
 """
 
 from __future__ import annotations
@@ -59,12 +66,6 @@ def _copy(src, dst):
         dst[k] = src[k]
 
 
-@njit(cache=True)
-def _error(indptr, indices, data, q, mu, dil, r, norm_q):
-    err, u = K.fc3d_error_kernel(indptr, indices, data, q, mu, dil, r, norm_q)
-    return err, u
-
-
 @njit(inline="always")
 def _polish(indptr, indices, data, q, mu, dil, r, tol, max_iter, norm_q, hist_err, hist_it, nh, offset,
             contraction, patience, max_halvings):
@@ -81,7 +82,7 @@ def _polish(indptr, indices, data, q, mu, dil, r, tol, max_iter, norm_q, hist_er
     for a in range(nc):
         tr = abs(D[a, 0, 0] + D[a, 1, 1] + D[a, 2, 2]) / 3.0
         rho[a] = 1.0 / tr if tr > 0.0 else 1.0
-    err, u = _error(indptr, indices, data, q, mu, dil, r, norm_q)
+    err, u = K.fc3d_error_kernel(indptr, indices, data, q, mu, dil, r, norm_q)
     if max_iter <= 0 or err <= tol:
         return 0, err, nh, hist_err, hist_it
     J = np.empty((n, n))
@@ -102,7 +103,7 @@ def _polish(indptr, indices, data, q, mu, dil, r, tol, max_iter, norm_q, hist_er
         accepted = False
         for _ in range(max_halvings + 1):
             rn = r + alpha * dx
-            en, un = _error(indptr, indices, data, q, mu, dil, rn, norm_q)
+            en, un = K.fc3d_error_kernel(indptr, indices, data, q, mu, dil, rn, norm_q)
             if en < err:
                 accepted = True
                 break
@@ -156,11 +157,53 @@ def _sweeps(indptr, indices, data, D, q, mu, dil, r, tol, budget, norm_q, h_err,
 
 
 @njit(inline="always")
+def _finish(indptr, indices, data, q, mu, dil, r, u, D, norm_q, err, r_bound_factor):
+    """``u = W r + q``; the error of ``r`` where the last stage left none (``inf``); whether
+    the reactions are within ``r_bound_factor`` times |q| over the mean |W_ii|. Returns
+    ``(error, bounded)``."""
+    nc = mu.size
+    for i in range(3 * nc):
+        acc = q[i]
+        for k in range(indptr[i], indptr[i + 1]):
+            acc += data[k] * r[indices[k]]
+        u[i] = acc
+    if not np.isfinite(err):
+        err, _u = K.fc3d_error_kernel(indptr, indices, data, q, mu, dil, r, norm_q)
+    mean_diag, count = 0.0, 0
+    for a in range(nc):
+        for l in range(3):
+            if D[a, l, l] != 0.0:
+                mean_diag += abs(D[a, l, l])
+                count += 1
+    mean_diag = mean_diag / count if count else 1.0
+    return err, K.norm2(r) <= r_bound_factor * max(norm_q, 1e-300) / mean_diag
+
+
+@njit(inline="always")
+def small_sweeps(indptr, indices, data, q, mu, dil, r, u, h_err, h_it, tol, budget, r_bound_factor):
+    """The first stage alone, up to ``budget`` NSGS sweeps from ``r``: the whole of mode 0
+    (nsgs) and the probe of mode 2 (auto). Its callers compile no polish: a problem the sweeps
+    solve (CubeH8 and most small problems) never compiles it (:func:`small_solve` goes on where
+    they stop). Returns ``(sweeps, error, bounded, stage error, history length, h_err, h_it)``;
+    the stage error is the sweeps' own (``inf`` where none was evaluated), the state
+    :func:`small_solve` resumes from."""
+    norm_q = K.norm2(q)
+    D = K.diagonal_blocks(indptr, indices, data, mu.size)
+    it, stage_err, h_err, h_it, nh = _sweeps(indptr, indices, data, D, q, mu, dil, r, tol, budget, norm_q,
+                                             h_err, h_it, _ZERO, _ZERO)
+    err, bounded = _finish(indptr, indices, data, q, mu, dil, r, u, D, norm_q, stage_err, r_bound_factor)
+    return it, err, bounded, stage_err, nh, h_err, h_it
+
+
+@njit(inline="always")
 def small_solve(indptr, indices, data, q, mu, dil, r, u, h_err, h_it, tol, max_iter, mode, contraction, patience,
-                max_halvings, r_bound_factor):
+                max_halvings, r_bound_factor, ns, done, nh, err):
     """Solve in place from ``r``: mode 0 nsgs, 1 polish, 2 auto (see the module docstring);
     ``u`` receives :math:`W r + q`, ``h_err``, ``h_it`` the history (buffers of any size,
-    replaced by larger ones when the history outgrows them).
+    replaced by larger ones when the history outgrows them). ``ns, done, nh, err``: the
+    stages run so far, their iterations, history length and last stage's error; ``0, 0, 0,
+    inf`` for a fresh start, ``1, sweeps, length, stage error`` of :func:`small_sweeps`' probe
+    to go on after it (the same run as from the start).
 
     Returns ``(iterations, error, bounded, stages, history length, h_err, h_it)``; ``stages``
     is the number of stages run (they alternate from nsgs, or are one polish in mode 1: see
@@ -170,10 +213,11 @@ def small_solve(indptr, indices, data, q, mu, dil, r, u, h_err, h_it, tol, max_i
     nc = mu.size
     norm_q = K.norm2(q)
     D = K.diagonal_blocks(indptr, indices, data, nc)
-    nh, done, err = _ZERO, _ZERO, np.inf
-    ns = 0
-    budget = max_iter if mode != 2 else min(AUTO_PROBE, max_iter)
-    stage = 0 if mode != 1 else 1
+    if ns == 0:
+        budget = max_iter if mode != 2 else min(AUTO_PROBE, max_iter)
+    else:
+        budget = max_iter - done
+    stage = 1 if mode == 1 else ns % 2
     while ns < 4:
         if stage == 0:
             it, err, h_err, h_it, nh = _sweeps(indptr, indices, data, D, q, mu, dil, r, tol, budget, norm_q,
@@ -192,28 +236,48 @@ def small_solve(indptr, indices, data, q, mu, dil, r, u, h_err, h_it, tol, max_i
             break
         stage = 1 - stage
     # every stage ends with the error of r as it is (NSGS evaluates after its last sweep)
-    for i in range(3 * nc):
-        acc = q[i]
-        for k in range(indptr[i], indptr[i + 1]):
-            acc += data[k] * r[indices[k]]
-        u[i] = acc
-    if not np.isfinite(err):
-        err, _u = _error(indptr, indices, data, q, mu, dil, r, norm_q)
-    mean_diag, count = 0.0, 0
-    for a in range(nc):
-        for l in range(3):
-            if D[a, l, l] != 0.0:
-                mean_diag += abs(D[a, l, l])
-                count += 1
-    mean_diag = mean_diag / count if count else 1.0
-    bounded = K.norm2(r) <= r_bound_factor * max(norm_q, 1e-300) / mean_diag
+    err, bounded = _finish(indptr, indices, data, q, mu, dil, r, u, D, norm_q, err, r_bound_factor)
     return done, err, bounded, ns, nh, h_err, h_it
+
+
+@njit(inline="always")
+def _keep_into(h_err, h_it, nh, he, hi):
+    """The history written to grown buffers ``he``, ``hi`` copied back to the caller's where it
+    fits (a longer one is run again with room for it: see :func:`solve_into`). A chunk of
+    sweeps grows the buffers when the history *might* outgrow them, so a run may end in grown
+    buffers with a history that fits."""
+    if he.size != h_err.size and nh <= h_err.size:
+        _copy(he[:nh], h_err[:nh])
+        _copy(hi[:nh], h_it[:nh])
+
+
+def goes_on(mode: int, stage_err: float, tol: float, sweeps: int, max_iter: int) -> bool:
+    """Whether mode 2 (auto) goes on after :func:`small_sweeps`' probe (``small_solve``'s rule
+    after its first stage)."""
+    return mode == 2 and not stage_err <= tol and sweeps < max_iter
+
+
+@njit(cache=True)
+def sweeps_into(indptr, indices, data, q, mu, dil, r0, out, h_it, tol, budget, r_bound_factor):
+    """:func:`small_sweeps` from ``r0`` (zero where it is empty) into one buffer laid out as
+    :func:`solve_into`'s; returns ``(sweeps, error, bounded, stage error, history length)``."""
+    n = q.size
+    if r0.size:
+        _copy(r0, out[:n])
+    else:
+        out[:n] = 0.0
+    it, err, bounded, stage_err, nh, he, hi = small_sweeps(indptr, indices, data, q, mu, dil, out[:n],
+                                                           out[n:2 * n], out[2 * n:], h_it, tol, budget,
+                                                           r_bound_factor)
+    _keep_into(out[2 * n:], h_it, nh, he, hi)
+    return it, err, bounded, stage_err, nh
 
 
 @njit(cache=True)
 def solve_into(indptr, indices, data, q, mu, dil, r0, out, h_it, tol, max_iter, mode, contraction, patience,
-               max_halvings, r_bound_factor):
-    """:func:`small_solve` from ``r0`` (zero where it is empty) into one buffer, returning
+               max_halvings, r_bound_factor, ns, done, nh, err):
+    """:func:`small_solve` from ``r0`` (zero where it is empty; ignored where ``ns > 0``: ``out``
+    holds the state :func:`sweeps_into` left) into one buffer, returning
     numbers only: ``(iterations, error, bounded, stages, history length)``. ``out`` receives
     ``r``, then ``u``, then the errors of the history, whose iterations go to ``h_it``. A
     Python call of a compiled function pays for each argument (about 40 ns for an array) and
@@ -222,13 +286,15 @@ def solve_into(indptr, indices, data, q, mu, dil, r0, out, h_it, tol, max_iter, 
     longer than ``h_it`` is lost; the same call with room for at least ``length +``
     :data:`CHUNK` entries gives the same answer with the whole history."""
     n = q.size
-    if r0.size:
-        _copy(r0, out[:n])
-    else:
-        out[:n] = 0.0
-    it, err, bounded, ns, nh, _he, _hi = small_solve(indptr, indices, data, q, mu, dil, out[:n], out[n:2 * n],
-                                                     out[2 * n:], h_it, tol, max_iter, mode, contraction, patience,
-                                                     max_halvings, r_bound_factor)
+    if ns == 0:
+        if r0.size:
+            _copy(r0, out[:n])
+        else:
+            out[:n] = 0.0
+    it, err, bounded, ns, nh, he, hi = small_solve(indptr, indices, data, q, mu, dil, out[:n], out[n:2 * n],
+                                                   out[2 * n:], h_it, tol, max_iter, mode, contraction, patience,
+                                                   max_halvings, r_bound_factor, ns, done, nh, err)
+    _keep_into(out[2 * n:], h_it, nh, he, hi)
     return it, err, bounded, ns, nh
 
 
@@ -265,34 +331,69 @@ def _clock_ns(typingctx, clock):
 CLOCK = time.CLOCK_MONOTONIC if sys.platform.startswith("linux") else None
 
 
+@njit(inline="always")
+def _problem(indptr, indices, data, ptr_start, nnz_start, con_start, k):
+    """Problem k's CSR arrays in the batch layout of :func:`sweeps_many`, and its first contact."""
+    a, b = con_start[k], con_start[k + 1]
+    n = 3 * (b - a)
+    ip = indptr[ptr_start[k]:ptr_start[k] + n + 1]
+    nz = nnz_start[k]
+    return ip, indices[nz:nz + ip[n]], data[nz:nz + ip[n]], a, b
+
+
+@njit(inline="always")
+def _keep(h_err, h_it, k, nh, he, hi):
+    """The history length of row k (-1: it outgrew the row), copied there from a grown buffer."""
+    if he.size != h_err.shape[1] and nh <= h_err.shape[1]:     # written to a grown buffer
+        _copy(he[:nh], h_err[k, :nh])
+        _copy(hi[:nh], h_it[k, :nh])
+    return nh if nh <= h_err.shape[1] else -1
+
+
+@njit(cache=True)
+def sweeps_many(indptr, indices, data, ptr_start, nnz_start, q, mu, dil, con_start, r, u, h_err, h_it, tol,
+                budget, r_bound_factor, clock, out_int, out_float):
+    """:func:`small_sweeps` on each of P problems stored one after the other: problem k has
+    ``n = 3 (con_start[k+1] - con_start[k])`` unknowns, its CSR row pointers
+    ``indptr[ptr_start[k]:ptr_start[k] + n + 1]`` (from 0), its column indices and values
+    from ``nnz_start[k]``, its q, r, u from ``3 con_start[k]``, its history in row k of
+    ``h_err``, ``h_it``; ``r`` holds the initial reactions. Writes ``out_int[k] = (iterations,
+    bounded, stages, history length)`` (length -1: the history outgrew its row) and
+    ``out_float[k] = (error, seconds on clock, stage error)``."""
+    for k in range(con_start.size - 1):
+        t0 = _clock_ns(clock)
+        ip, ix, dt, a, b = _problem(indptr, indices, data, ptr_start, nnz_start, con_start, k)
+        it, err, bounded, stage_err, nh, he, hi = small_sweeps(
+            ip, ix, dt, q[3 * a:3 * b], mu[a:b], dil[a:b], r[3 * a:3 * b], u[3 * a:3 * b], h_err[k], h_it[k], tol,
+            budget, r_bound_factor)
+        out_int[k, 0], out_int[k, 1], out_int[k, 2] = it, bounded, 1
+        out_int[k, 3] = _keep(h_err, h_it, k, nh, he, hi)
+        out_float[k, 0], out_float[k, 2] = err, stage_err
+        out_float[k, 1] = 1e-9 * (_clock_ns(clock) - t0)
+
+
 @njit(cache=True)
 def small_solve_many(indptr, indices, data, ptr_start, nnz_start, q, mu, dil, con_start, r, u, h_err, h_it,
                      tol, max_iter, mode, contraction, patience, max_halvings, r_bound_factor, clock, out_int,
                      out_float):
-    """:func:`small_solve` on each of P problems stored one after the other: problem k has
-    ``n = 3 (con_start[k+1] - con_start[k])`` unknowns, its CSR row pointers
-    ``indptr[ptr_start[k]:ptr_start[k] + n + 1]`` (from 0), its column indices and values
-    from ``nnz_start[k]``, its q, r, u from ``3 con_start[k]``, its history in row k of
-    ``h_err``, ``h_it``. Writes ``out_int[k] = (iterations, bounded, stages, history
-    length)`` (length -1: the history outgrew its row) and ``out_float[k] = (error, seconds
-    on clock)``."""
+    """:func:`small_solve` on the problems of :func:`sweeps_many`'s layout and outputs, each
+    from the state those outputs hold: a fresh start where ``out_int[k, 2]`` (the stages) is 0,
+    else the state :func:`sweeps_many`' probe left, for the problems that go on after it
+    (:func:`goes_on`; the others are left as they are). The seconds are added to those in
+    ``out_float[k, 1]``."""
     for k in range(con_start.size - 1):
+        ns, done, nh = out_int[k, 2], out_int[k, 0], out_int[k, 3]
+        if ns > 0 and (nh < 0 or mode != 2 or out_float[k, 2] <= tol or done >= max_iter):
+            continue
         t0 = _clock_ns(clock)
-        a, b = con_start[k], con_start[k + 1]
-        n = 3 * (b - a)
-        ip = indptr[ptr_start[k]:ptr_start[k] + n + 1]
-        nz = nnz_start[k]
+        ip, ix, dt, a, b = _problem(indptr, indices, data, ptr_start, nnz_start, con_start, k)
         it, err, bounded, ns, nh, he, hi = small_solve(
-            ip, indices[nz:nz + ip[n]], data[nz:nz + ip[n]], q[3 * a:3 * b], mu[a:b], dil[a:b], r[3 * a:3 * b],
-            u[3 * a:3 * b], h_err[k], h_it[k], tol, max_iter, mode, contraction, patience, max_halvings,
-            r_bound_factor)
+            ip, ix, dt, q[3 * a:3 * b], mu[a:b], dil[a:b], r[3 * a:3 * b], u[3 * a:3 * b], h_err[k], h_it[k], tol,
+            max_iter, mode, contraction, patience, max_halvings, r_bound_factor, ns, done, nh, out_float[k, 2])
         out_int[k, 0], out_int[k, 1], out_int[k, 2] = it, bounded, ns
-        out_int[k, 3] = nh if nh <= h_err.shape[1] else -1
-        if he.size != h_err.shape[1] and nh <= h_err.shape[1]:     # written to a grown buffer
-            _copy(he[:nh], h_err[k, :nh])
-            _copy(hi[:nh], h_it[k, :nh])
-        out_float[k, 0] = err
-        out_float[k, 1] = 1e-9 * (_clock_ns(clock) - t0)
+        out_int[k, 3] = _keep(h_err, h_it, k, nh, he, hi)
+        out_float[k, 0], out_float[k, 2] = err, err
+        out_float[k, 1] += 1e-9 * (_clock_ns(clock) - t0)
 
 
 #: ``Solution.method`` of a small-path run, ``STAGE_NAMES[mode][count]`` after ``count`` stages
@@ -310,7 +411,7 @@ def reason(method: str, bounded: bool, err: float, tol: float, it: int, max_iter
     return "stalled" if method == "polish" and it < max_iter else "max_iter"
 
 
-_empty, _int64, _clock, _NO_R0 = np.empty, np.int64, time.perf_counter, np.empty(0)
+_empty, _int64, _clock, _NO_R0, _INF = np.empty, np.int64, time.perf_counter, np.empty(0), float("inf")
 
 
 def solve_small(problem, method: str, tol: float, max_iter: int, r0, polish, t0: float) -> Solution:
@@ -330,10 +431,19 @@ def solve_small(problem, method: str, tol: float, max_iter: int, r0, polish, t0:
     size = HISTORY
     while True:
         out, h_it = _empty(2 * n + size), _empty(size, _int64)
-        it, err, bounded, stages, nh = solve_into(W.indptr, W.indices, W.data, problem.q, problem.mu_bar,
-                                                  problem.dilatancy, r0, out, h_it, tol, max_iter, mode,
-                                                  polish.contraction, polish.patience, polish.max_halvings,
-                                                  UNBOUNDED)
+        if mode == 1:
+            go_on, ns, it, nh, stage_err = True, 0, 0, 0, _INF         # a fresh start
+        else:                       # the sweeps (all of nsgs, the probe of auto): no polish compiled
+            it, err, bounded, stage_err, nh = sweeps_into(W.indptr, W.indices, W.data, problem.q, problem.mu_bar,
+                                                          problem.dilatancy, r0, out, h_it, tol,
+                                                          max_iter if mode == 0 else min(AUTO_PROBE, max_iter),
+                                                          UNBOUNDED)
+            go_on, ns, stages = nh <= size and goes_on(mode, stage_err, tol, it, max_iter), 1, 1
+        if go_on:
+            it, err, bounded, stages, nh = solve_into(W.indptr, W.indices, W.data, problem.q, problem.mu_bar,
+                                                      problem.dilatancy, r0, out, h_it, tol, max_iter, mode,
+                                                      polish.contraction, polish.patience, polish.max_halvings,
+                                                      UNBOUNDED, ns, it, nh, stage_err)
         if nh <= size:
             break
         size = nh + CHUNK           # a history longer than the buffers: the same run with room for it

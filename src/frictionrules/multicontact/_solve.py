@@ -285,8 +285,10 @@ def solve_batch(problems, method: str = "auto", tol: float = 1e-8, max_iter: int
 
 
 def _solve_small_many(problems, method, tol, max_iter, small) -> list:
-    """The problems in one compiled call (:func:`._small.small_solve_many`); None for those
-    left to :func:`solve` (``auto`` not converged, a history longer than its buffer)."""
+    """The problems in one compiled call (:func:`._small.sweeps_many`, then
+    :func:`._small.small_solve_many` for the polish and what follows it, where a problem needs
+    them); None for those left to :func:`solve` (``auto`` not converged, a history longer than
+    its buffer)."""
     P = len(problems)
     con_start = np.zeros(P + 1, dtype=np.int64)
     np.cumsum([p.nc for p in problems], out=con_start[1:])
@@ -299,18 +301,24 @@ def _solve_small_many(problems, method, tol, max_iter, small) -> list:
     n = 3 * int(con_start[-1])
     r, u = np.zeros(n), np.empty(n)
     h_err, h_it = np.empty((P, small.HISTORY)), np.empty((P, small.HISTORY), dtype=np.int64)
-    out_int, out_float = np.empty((P, 4), dtype=np.int64), np.empty((P, 2))
+    out_int, out_float = np.zeros((P, 4), dtype=np.int64), np.zeros((P, 3))
     polish = small.POLISH_DEFAULTS
     mode = small.MODES[method]
-    small.small_solve_many(
-        cat([W.indptr for W in Ws]), cat([W.indices for W in Ws]), cat([W.data for W in Ws]), ptr_start,
-        nnz_start, cat([p.q for p in problems]),
-        cat([p.mu_bar for p in problems]), cat([p.dilatancy for p in problems]), con_start, r, u, h_err, h_it,
-        tol, max_iter, mode, polish.contraction, polish.patience, polish.max_halvings, small.UNBOUNDED,
-        small.CLOCK, out_int, out_float)
+    arrays = (cat([W.indptr for W in Ws]), cat([W.indices for W in Ws]), cat([W.data for W in Ws]), ptr_start,
+              nnz_start, cat([p.q for p in problems]), cat([p.mu_bar for p in problems]),
+              cat([p.dilatancy for p in problems]), con_start, r, u, h_err, h_it, tol)
+    if mode != small.MODES["polish"]:       # the sweeps first: the polish is compiled only if a problem needs it
+        small.sweeps_many(*arrays, max_iter if method == "nsgs" else min(small.AUTO_PROBE, max_iter),
+                          small.UNBOUNDED, small.CLOCK, out_int, out_float)
+    if mode == small.MODES["polish"] or any(
+            nh >= 0 and small.goes_on(mode, stage_err, tol, it, max_iter)
+            for (it, _b, _s, nh), (_e, _t, stage_err) in zip(out_int.tolist(), out_float.tolist())):
+        small.small_solve_many(*arrays, max_iter, mode, polish.contraction, polish.patience, polish.max_halvings,
+                               small.UNBOUNDED, small.CLOCK, out_int, out_float)
     sols = []
     starts = (3 * con_start).tolist()       # Python numbers: a tenth of NumPy scalars' cost
-    for k, ((it, bounded, stages, nh), (err, seconds)) in enumerate(zip(out_int.tolist(), out_float.tolist())):
+    for k, ((it, bounded, stages, nh), (err, seconds, _stage_err)) in enumerate(zip(out_int.tolist(),
+                                                                                   out_float.tolist())):
         reason = small.reason(method, bounded, err, tol, it, max_iter)
         if nh < 0 or (method == "auto" and reason != "converged"):
             sols.append(None)
