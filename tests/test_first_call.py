@@ -187,6 +187,30 @@ def test_the_time_limit_excludes_the_start_up(monkeypatch, tmp_path):
     assert all(r.converged for r in records)
 
 
+
+@pytest.mark.parametrize("compiling", (True, False))
+def test_solve_time_limit_does_not_count_compiling(compiling):
+    """``solve(time_limit=)`` bounds the solver's work: seconds inside Numba compilations (the
+    ``"numba:compile"`` events a first call emits) are subtracted. A callback spends 1.5 s
+    once, inside such an event or outside it; with a limit of 1 s the run then reaches
+    ``max_iter`` or stops at the limit (the rest of the run is microseconds)."""
+    import time
+    from numba.core import event
+    from frictionrules import FrictionContactProblem, solve
+    problem = FrictionContactProblem(np.eye(3), np.array([-1.0, 0.2, 0.0]), [0.5])
+
+    def callback(info):
+        if info.iteration == 1:
+            if compiling:
+                event.start_event("numba:compile")
+            time.sleep(1.5)
+            if compiling:
+                event.end_event("numba:compile")
+        return False
+    s = solve(problem, method="admm", tol=0.0, max_iter=5, time_limit=1.0, callback=callback)
+    assert s.reason == ("max_iter" if compiling else "time_limit")
+
+
 _GENERATED = """
     import json
     import numpy as np

@@ -8,6 +8,7 @@ user's callback, and decides when a run stops and why (:data:`REASONS`).
 from __future__ import annotations
 
 import math
+import threading
 import time
 
 import numpy as np
@@ -26,6 +27,40 @@ UNBOUNDED = 1e6
 
 #: Errors over which :meth:`_Monitor.predicted` measures a stage's linear rate.
 RATE_POINTS = 4
+
+_CLOCK_LOCK = threading.Lock()
+_COMPILING: dict[int, list] = {}    # thread id -> [nesting depth, start, seconds of finished compilations]
+
+
+def compiling_seconds() -> float:
+    """Seconds the calling thread has spent in finished Numba compilations (kind
+    ``"numba:compile"`` of ``numba.core.event``: a compilation, not a load from the cache),
+    counted from the first call of this function in the process. A time limit subtracts them,
+    so that a first call's compiling (seconds to a minute on a busy machine) does not use up a
+    run's budget."""
+    if not _COMPILING:
+        with _CLOCK_LOCK:
+            if not _COMPILING:
+                from numba.core import event
+
+                class _Clock(event.Listener):
+                    def on_start(self, ev):
+                        c = _COMPILING.setdefault(threading.get_ident(), [0, 0.0, 0.0])
+                        if c[0] == 0:
+                            c[1] = time.perf_counter()
+                        c[0] += 1
+
+                    def on_end(self, ev):
+                        c = _COMPILING.get(threading.get_ident())
+                        if c is not None and c[0] > 0:
+                            c[0] -= 1
+                            if c[0] == 0:
+                                c[2] += time.perf_counter() - c[1]
+
+                event.register("numba:compile", _Clock())
+                _COMPILING[-1] = [0, 0.0, 0.0]    # marks the clock as installed
+    c = _COMPILING.get(threading.get_ident())
+    return c[2] if c is not None else 0.0
 
 
 def initial_reactions(r0, n: int) -> np.ndarray:
@@ -102,6 +137,7 @@ class _Monitor:
     def __init__(self, fr: _Frame, tol: float, time_limit, callback):
         self.fr, self.tol, self.time_limit, self.callback = fr, tol, time_limit, callback
         self.t0 = time.perf_counter()
+        self.c0 = compiling_seconds() if time_limit is not None else 0.0
         self.errors: list[float] = []
         self.iterations: list[int] = []
         self.offset = 0          # iterations of the earlier stages of a chained run
@@ -112,7 +148,9 @@ class _Monitor:
         return time.perf_counter() - self.t0
 
     def out_of_time(self) -> bool:
-        return self.time_limit is not None and self.elapsed() >= self.time_limit
+        """Past ``time_limit``: wall seconds since the start, less those spent compiling kernels."""
+        return (self.time_limit is not None
+                and self.elapsed() - (compiling_seconds() - self.c0) >= self.time_limit)
 
     def record(self, method: str, iteration: int, r, err: float) -> bool:
         self.errors.append(float(err))

@@ -165,7 +165,9 @@ def solve(problem: FrictionContactProblem, method: str = "auto", tol: float = 1e
         ``NSGSOptions.chunk_seconds``); a true return stops the run (reason ``"callback"``).
     time_limit : float, optional
         Wall-clock seconds; the run stops after the iteration that passes it (reason
-        ``"time_limit"``).
+        ``"time_limit"``). Seconds spent compiling kernels (a first call in a fresh
+        environment) are not counted: the limit bounds the solver's work, whatever the state
+        of Numba's cache.
     blas_threads : int or None
         BLAS and OpenMP threads during the whole call (threadpoolctl); None leaves them.
 
