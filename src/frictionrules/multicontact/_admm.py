@@ -50,14 +50,16 @@ def _product(fr: _Frame):
     r"""The frame's compiled :math:`(x, q) \mapsto q + W x`, each row summed in the order of
     SciPy's product: by 3 x 3 blocks when W is made of them
     (:func:`._admm_steps.block_matvec`), by entries otherwise."""
-    from . import _admm_steps as S
-    from . import _kernels as K
-    indptr, indices, data, blocks = _compiled_w(fr)
-    kernel = S.block_matvec if blocks else K.csr_matvec
+    if "admm_product" not in fr.cache:
+        from . import _admm_steps as S
+        from . import _kernels as K
+        indptr, indices, data, blocks = _compiled_w(fr)
+        kernel = S.block_matvec if blocks else K.csr_matvec
 
-    def product(x, q):
-        return kernel(indptr, indices, data, x, q)
-    return product
+        def product(x, q):
+            return kernel(indptr, indices, data, x, q)
+        fr.cache["admm_product"] = product
+    return fr.cache["admm_product"]
 
 
 #: The compiled triangular solves (:func:`._admm_steps.lu_solve`, entry by entry) serve while
@@ -96,20 +98,18 @@ class _Factor:
         W = fr.W
         n = W.shape[0]
         self.first, self.kept = True, None
-        self.c, self.w = c, _compiled_w(fr)
-        self.product = _product(fr)
+        self.c, self.fr = c, fr
         self.arrays = None
         if n <= 400:
             import scipy.linalg as sla
-            import scipy.sparse as sp
-            lu, piv = sla.lu_factor(W.toarray() + c * np.eye(n), check_finite=False)
-            L = sp.csc_matrix(np.tril(lu, -1) + np.eye(n))
-            U = sp.csc_matrix(np.triu(lu))
-            if L.nnz + U.nnz <= COMPILED_FILL_MAX * n:
-                rows = np.arange(n)
-                for i, p in enumerate(piv):         # LAPACK's row interchanges, in turn
-                    rows[i], rows[p] = rows[p], rows[i]
-                self.arrays = S.csr_factors(L, U) + (rows, np.arange(n))
+            if "dense_w" not in fr.cache:
+                fr.cache["dense_w"] = W.toarray()
+            A = fr.cache["dense_w"].copy()
+            A[np.diag_indices(n)] += c
+            lu, piv = sla.lu_factor(A, overwrite_a=True, check_finite=False)
+            factors = S.dense_factors(lu, piv)
+            if factors[1].size + factors[4].size + n <= COMPILED_FILL_MAX * n:
+                self.arrays = factors + (np.arange(n),)
             else:
                 self._solve = lambda b: sla.lu_solve((lu, piv), b, check_finite=False)
             self.refine = False
@@ -125,7 +125,7 @@ class _Factor:
                            options={"SymmetricMode": True})
             perm = np.arange(n)
         else:
-            lu = ordered_superlu(*fr.csr, perm, c, self.w[3])
+            lu = ordered_superlu(*fr.csr, perm, c, _compiled_w(fr)[3])
         if lu.nnz <= COMPILED_FILL_MAX * n:
             # L U = B, B_kj = M_{r'_k c'_j} (r', c' the inverses of SuperLU's perm_r, perm_c),
             # M_ij = A_{perm_i perm_j}
@@ -147,7 +147,7 @@ class _Factor:
         return S.lu_solve(*self.arrays, b)
 
     def _residual(self, x, b):
-        return self.product(x, self.c * x - b)
+        return _product(self.fr)(x, self.c * x - b)
 
     def solve(self, b):
         """The solution of :math:`A x = b` (a new array)."""

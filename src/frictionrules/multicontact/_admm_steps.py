@@ -286,6 +286,43 @@ def _strict_rows(cp, ci, cx, lower):
     return ptr, idx, val, diag
 
 
+@njit(cache=True)
+def dense_factors(lu, piv):
+    """``(lp, li, lx, up, ui, ux, ud, rows)`` of :func:`lu_solve` from LAPACK's packed LU (L
+    unit lower triangular below the diagonal, U on and above it; their zero entries left out)
+    and its row interchanges ``piv`` (row i swapped with row ``piv[i]``, in turn)."""
+    n = lu.shape[0]
+    rows = np.arange(n)
+    for i in range(n):
+        rows[i], rows[piv[i]] = rows[piv[i]], rows[i]
+    lp, up = np.zeros(n + 1, np.int32), np.zeros(n + 1, np.int32)
+    for i in range(n):
+        lp[i + 1], up[i + 1] = lp[i], up[i]
+        for j in range(n):
+            if lu[i, j] != 0.0 and j != i:
+                if j < i:
+                    lp[i + 1] += 1
+                else:
+                    up[i + 1] += 1
+    li, lx = np.empty(lp[n], np.int32), np.empty(lp[n])
+    ui, ux = np.empty(up[n], np.int32), np.empty(up[n])
+    ud = np.empty(n)
+    for i in range(n):
+        a, b = lp[i], up[i]
+        for j in range(n):
+            e = lu[i, j]
+            if j == i:
+                ud[i] = e
+            elif e != 0.0:
+                if j < i:
+                    li[a], lx[a] = j, e
+                    a += 1
+                else:
+                    ui[b], ux[b] = j, e
+                    b += 1
+    return lp, li, lx, up, ui, ux, ud, rows
+
+
 def csr_factors(L, U):
     """``(lp, li, lx, up, ui, ux, ud)`` of :func:`lu_solve` from the CSC factors L (unit lower
     triangular) and U (upper triangular) of SciPy's SuperLU or of dense triangles."""
