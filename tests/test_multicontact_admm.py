@@ -302,6 +302,25 @@ def test_compiled_triangular_solves_are_a_dense_solve(monkeypatch, nc, nonsymmet
     wp, wi, wx, blocks = _compiled_w(fr)
     again = S.factor_solve(*f.arrays, f.refine, c, wp, wi, wx, blocks, b)
     np.testing.assert_array_equal(again, x)
+    triples = f.arrays[-1]
+    assert np.all(triples == 3)                    # W of whole 3 x 3 blocks: every contact's rows
+    by_rows = S.lu_solve(*f.arrays[:-1], np.zeros_like(triples), b)
+    np.testing.assert_allclose(S.lu_solve(*f.arrays, b), by_rows, rtol=1e-12, atol=1e-14 * np.abs(by_rows).max())
+
+
+def test_contact_triples_need_the_shared_columns():
+    """A triple of rows is summed together only where its rows share their other columns: L's
+    rows P, P + [3t], P + [3t, 3t + 1], U's [3t + 1, 3t + 2] + Q, [3t + 2] + Q, Q."""
+    def csr(rows):
+        ptr = np.cumsum([0] + [len(r) for r in rows]).astype(np.int32)
+        return ptr, np.array([c for r in rows for c in r], np.int32)
+    lp, li = csr([[], [0], [0, 1], [0, 1], [0, 1, 3], [0, 1, 3, 4]])
+    up, ui = csr([[1, 2, 4], [2, 4], [4], [4, 5], [5], []])
+    np.testing.assert_array_equal(S.contact_triples(lp, li, up, ui), [3, 3])
+    lp, li = csr([[], [0], [0, 1], [0], [1, 3], [0, 1, 3, 4]])      # L's row 4 lost column 0
+    np.testing.assert_array_equal(S.contact_triples(lp, li, up, ui), [3, 2])
+    up, ui = csr([[1, 2, 4], [2], [4], [4, 5], [5], []])              # U's row 1 lost column 4
+    np.testing.assert_array_equal(S.contact_triples(lp, li, up, ui), [1, 2])
 
 
 def test_dense_factors_rebuild_lapacks_lu():

@@ -109,7 +109,8 @@ class _Factor:
             lu, piv = sla.lu_factor(A, overwrite_a=True, check_finite=False)
             factors = S.dense_factors(lu, piv)
             if factors[1].size + factors[4].size + n <= COMPILED_FILL_MAX * n:
-                self.arrays = factors + (np.arange(n),)
+                self.arrays = factors + (np.arange(n), S.contact_triples(factors[0], factors[1], factors[3],
+                                                                       factors[4]))
             else:
                 self._solve = lambda b: sla.lu_solve((lu, piv), b, check_finite=False)
             self.refine = False
@@ -131,7 +132,9 @@ class _Factor:
             # M_ij = A_{perm_i perm_j}
             rinv, cinv = np.empty(n, np.int64), np.empty(n, np.int64)
             rinv[lu.perm_r], cinv[lu.perm_c] = np.arange(n), np.arange(n)
-            self.arrays = S.csr_factors(lu.L, lu.U) + (perm[rinv], perm[cinv])
+            factors = S.csr_factors(lu.L, lu.U)
+            self.arrays = factors + (perm[rinv], perm[cinv], S.contact_triples(factors[0], factors[1], factors[3],
+                                                                              factors[4]))
         else:
             def solve(b):
                 x = np.empty_like(b)
