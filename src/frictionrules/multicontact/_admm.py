@@ -62,13 +62,14 @@ def _product(fr: _Frame):
     return fr.cache["admm_product"]
 
 
-#: The compiled triangular solves (:func:`._admm_steps.lu_solve`, entry by entry) serve while
-#: the factors hold at most this many nonzeros per unknown; beyond, SuperLU's supernodal solve
-#: (dense blocks) is faster. Measured under load, one solve: Spheres (5.8 per unknown) 16 µs
-#: against SuperLU's 46, Capsules (12.9) 20 against 37, the 1,264 boxes (21.9) 148 against 228,
-#: spheres-in-a-box (44) 43 against 53; the 1,812 spheres (90) 929 against 627, KaplasTower
-#: (166) 429 against 202, the 3,970 spheres (134) 3,990 against 2,830.
-COMPILED_FILL_MAX = 64
+#: The compiled triangular solves (:func:`._admm_steps.lu_solve`, entry by entry, a contact's
+#: three rows together) serve while the factors hold at most this many nonzeros per unknown;
+#: beyond, SuperLU's supernodal solve (dense blocks) is faster. Measured under load, one solve,
+#: compiled against SuperLU: Spheres (6.8 per unknown) 17 against 58 µs, Capsules (13.9) 20
+#: against 62, the 1,264 boxes (22.9) 89 against 219, spheres-in-a-box (45) 30 against 87, the
+#: 1,812 spheres (91) 535 against 590; the 3,970 spheres (135) 2,850 against 2,630,
+#: KaplasTower (167) 310 against 226.
+COMPILED_FILL_MAX = 100
 
 
 class _Factor:
