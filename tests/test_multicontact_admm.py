@@ -20,6 +20,7 @@ from frictionrules.multicontact._admm import (
     _product,
 )
 from frictionrules.multicontact._frame import _Frame
+from test_io import FCLIB, needs_fclib
 
 
 def block_matrix(nc: int, seed: int, density: float = 0.05, drop_diagonal=(), nonsymmetric=0.0):
@@ -279,3 +280,80 @@ def test_unsorted_rows_let_superlu_order():
     b = np.random.default_rng(13).normal(size=3 * nc)
     ref = np.linalg.solve(fr.W.toarray() + 0.1 * np.eye(3 * nc), b)
     np.testing.assert_allclose(f.solve(b), ref, rtol=1e-10, atol=1e-12 * np.abs(ref).max())
+
+
+@pytest.mark.parametrize("nc, nonsymmetric", [(60, 0.0), (60, 0.3), (200, 0.0), (200, 0.3)])
+def test_compiled_triangular_solves_are_a_dense_solve(monkeypatch, nc, nonsymmetric):
+    """The factors as CSR arrays, solved in compiled code (:func:`lu_solve`): from LAPACK's
+    packed LU and its row interchanges (180 unknowns) and from SuperLU's factors of the
+    contacts' ordering (600), against NumPy's dense solve of W + cI (with the step of
+    refinement where the factor's test asks for it). Every fill is let through."""
+    from frictionrules.multicontact import _admm as A
+    monkeypatch.setattr(A, "COMPILED_FILL_MAX", 3 * nc)
+    W = block_matrix(nc, 6, density=0.02, nonsymmetric=nonsymmetric)
+    fr = _Frame(FrictionContactProblem(W, np.ones(3 * nc), np.full(nc, 0.5)))
+    c = 0.1
+    f = _Factor(fr, c)
+    assert f.arrays is not None
+    b = np.random.default_rng(7).normal(size=3 * nc)
+    ref = np.linalg.solve(fr.W.toarray() + c * np.eye(3 * nc), b)
+    x = f.solve(b)
+    np.testing.assert_allclose(x, ref, rtol=1e-10, atol=1e-12 * np.abs(ref).max())
+    wp, wi, wx, blocks = _compiled_w(fr)
+    again = S.factor_solve(*f.arrays, f.refine, c, wp, wi, wx, blocks, b)
+    np.testing.assert_array_equal(again, x)
+    triples = f.arrays[-1]
+    assert np.all(triples == 3)                    # W of whole 3 x 3 blocks: every contact's rows
+    by_rows = S.lu_solve(*f.arrays[:-1], np.zeros_like(triples), b)
+    np.testing.assert_allclose(S.lu_solve(*f.arrays, b), by_rows, rtol=1e-12, atol=1e-14 * np.abs(by_rows).max())
+
+
+def test_contact_triples_need_the_shared_columns():
+    """A triple of rows is summed together only where its rows share their other columns: L's
+    rows P, P + [3t], P + [3t, 3t + 1], U's [3t + 1, 3t + 2] + Q, [3t + 2] + Q, Q."""
+    def csr(rows):
+        ptr = np.cumsum([0] + [len(r) for r in rows]).astype(np.int32)
+        return ptr, np.array([c for r in rows for c in r], np.int32)
+    lp, li = csr([[], [0], [0, 1], [0, 1], [0, 1, 3], [0, 1, 3, 4]])
+    up, ui = csr([[1, 2, 4], [2, 4], [4], [4, 5], [5], []])
+    np.testing.assert_array_equal(S.contact_triples(lp, li, up, ui), [3, 3])
+    lp, li = csr([[], [0], [0, 1], [0], [1, 3], [0, 1, 3, 4]])      # L's row 4 lost column 0
+    np.testing.assert_array_equal(S.contact_triples(lp, li, up, ui), [3, 2])
+    up, ui = csr([[1, 2, 4], [2], [4], [4, 5], [5], []])              # U's row 1 lost column 4
+    np.testing.assert_array_equal(S.contact_triples(lp, li, up, ui), [1, 2])
+
+
+def test_dense_factors_rebuild_lapacks_lu():
+    """P A = L U from :func:`dense_factors`: the rows' order from LAPACK's interchanges, the
+    unit lower and the upper triangle, zeros left out."""
+    import scipy.linalg as sla
+    rng = np.random.default_rng(3)
+    A = rng.normal(size=(30, 30))
+    A[rng.random((30, 30)) < 0.5] = 0.0
+    A += 4 * np.eye(30)
+    lu, piv = sla.lu_factor(A)
+    lp, li, lx, up, ui, ux, ud, rows = S.dense_factors(lu, piv)
+    L = sp.csr_matrix((lx, li, lp), shape=A.shape).toarray() + np.eye(30)
+    U = sp.csr_matrix((ux, ui, up), shape=A.shape).toarray() + np.diag(ud)
+    np.testing.assert_allclose(L @ U, A[rows], atol=1e-12)
+    assert lx.size + ux.size == np.count_nonzero(np.tril(lu, -1)) + np.count_nonzero(np.triu(lu, 1))
+
+
+@needs_fclib
+@pytest.mark.parametrize("name, anderson", [("Capsules-i125-1213.hdf5", 5), ("Spheres-i099-356-679.hdf5", 5),
+                                            ("local_problem_test.hdf5", 0)])
+def test_compiled_loop_is_the_python_loop(name, anderson):
+    """ADMM's iterations in one compiled loop (no callback) and one by one in Python (a
+    callback that never stops the run): the same errors at every iteration (the compiled
+    error sums as the frame's), the same answer."""
+    from frictionrules import ADMMOptions, read_fclib, solve
+    p = read_fclib(FCLIB / name)
+    opts = ADMMOptions(anderson=anderson)
+    seen = []
+    a = solve(p, method="admm", tol=1e-8, options=opts)
+    b = solve(p, method="admm", tol=1e-8, options=opts, callback=lambda info: seen.append(info.error))
+    assert a.converged and b.converged
+    assert a.iterations == b.iterations
+    np.testing.assert_allclose(a.history, seen, rtol=1e-9)
+    np.testing.assert_array_equal(a.history_iterations, b.history_iterations)
+    np.testing.assert_allclose(a.r, b.r, rtol=1e-9, atol=1e-12 * np.abs(b.r).max())

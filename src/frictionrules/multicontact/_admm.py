@@ -50,14 +50,26 @@ def _product(fr: _Frame):
     r"""The frame's compiled :math:`(x, q) \mapsto q + W x`, each row summed in the order of
     SciPy's product: by 3 x 3 blocks when W is made of them
     (:func:`._admm_steps.block_matvec`), by entries otherwise."""
-    from . import _admm_steps as S
-    from . import _kernels as K
-    indptr, indices, data, blocks = _compiled_w(fr)
-    kernel = S.block_matvec if blocks else K.csr_matvec
+    if "admm_product" not in fr.cache:
+        from . import _admm_steps as S
+        from . import _kernels as K
+        indptr, indices, data, blocks = _compiled_w(fr)
+        kernel = S.block_matvec if blocks else K.csr_matvec
 
-    def product(x, q):
-        return kernel(indptr, indices, data, x, q)
-    return product
+        def product(x, q):
+            return kernel(indptr, indices, data, x, q)
+        fr.cache["admm_product"] = product
+    return fr.cache["admm_product"]
+
+
+#: The compiled triangular solves (:func:`._admm_steps.lu_solve`, entry by entry, a contact's
+#: three rows together) serve while the factors hold at most this many nonzeros per unknown;
+#: beyond, SuperLU's supernodal solve (dense blocks) is faster. Measured under load, one solve,
+#: compiled against SuperLU: Spheres (6.8 per unknown) 17 against 58 µs, Capsules (13.9) 20
+#: against 62, the 1,264 boxes (22.9) 89 against 219, spheres-in-a-box (45) 30 against 87, the
+#: 1,812 spheres (91) 535 against 590; the 3,970 spheres (135) 2,850 against 2,630,
+#: KaplasTower (167) 310 against 226.
+COMPILED_FILL_MAX = 100
 
 
 class _Factor:
@@ -73,36 +85,73 @@ class _Factor:
     frame) and the permuted matrix is built in one pass from W's CSR arrays; above
     :data:`._ordering.BITSET_MAX` contacts SuperLU orders them itself.
 
+    Where the factors hold at most :data:`COMPILED_FILL_MAX` nonzeros per unknown they are
+    kept as CSR arrays (``arrays``, the arguments of :func:`._admm_steps.lu_solve`), solved
+    in compiled code, and ADMM's iteration runs in one compiled call
+    (:func:`._admm_steps.admm_iteration`); ``arrays`` is None otherwise.
+
     The first solve is kept for the next call: ADMM's first iteration in the all-stick regime
     solves with ``-q`` again, as :func:`all_stick` did (0.2 ms on KaplasTower).
     """
 
     def __init__(self, fr: _Frame, c: float):
+        from . import _admm_steps as S
         W = fr.W
         n = W.shape[0]
         self.first, self.kept = True, None
+        self.c, self.fr = c, fr
+        self.arrays = None
         if n <= 400:
             import scipy.linalg as sla
-            lu = sla.lu_factor(W.toarray() + c * np.eye(n), check_finite=False)
-            self._solve = lambda b: sla.lu_solve(lu, b, check_finite=False)
+            if "dense_w" not in fr.cache:
+                fr.cache["dense_w"] = W.toarray()
+            A = fr.cache["dense_w"].copy()
+            A[np.diag_indices(n)] += c
+            lu, piv = sla.lu_factor(A, overwrite_a=True, check_finite=False)
+            factors = S.dense_factors(lu, piv)
+            if factors[1].size + factors[4].size + n <= COMPILED_FILL_MAX * n:
+                self.arrays = factors + (np.arange(n), S.contact_triples(factors[0], factors[1], factors[3],
+                                                                       factors[4]))
+            else:
+                self._solve = lambda b: sla.lu_solve((lu, piv), b, check_finite=False)
             self.refine = False
             return
         import scipy.sparse as sp
         import scipy.sparse.linalg as spla
 
-        from ._ordering import frame_ordering, ordered_lu
-        self.product, self.c = _product(fr), c
+        from ._ordering import frame_ordering, ordered_superlu
         perm = frame_ordering(fr)
         if perm is None:
             A = (W + c * sp.identity(n, format="csr")).tocsc()
-            self._solve = spla.splu(A, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
-                                    options={"SymmetricMode": True}).solve
+            lu = spla.splu(A, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+                           options={"SymmetricMode": True})
+            perm = np.arange(n)
         else:
-            self._solve = ordered_lu(*fr.csr, perm, c, _compiled_w(fr)[3])
+            lu = ordered_superlu(*fr.csr, perm, c, _compiled_w(fr)[3])
+        if lu.nnz <= COMPILED_FILL_MAX * n:
+            # L U = B, B_kj = M_{r'_k c'_j} (r', c' the inverses of SuperLU's perm_r, perm_c),
+            # M_ij = A_{perm_i perm_j}
+            rinv, cinv = np.empty(n, np.int64), np.empty(n, np.int64)
+            rinv[lu.perm_r], cinv[lu.perm_c] = np.arange(n), np.arange(n)
+            factors = S.csr_factors(lu.L, lu.U)
+            self.arrays = factors + (perm[rinv], perm[cinv], S.contact_triples(factors[0], factors[1], factors[3],
+                                                                              factors[4]))
+        else:
+            def solve(b):
+                x = np.empty_like(b)
+                x[perm] = lu.solve(b[perm])
+                return x
+            self._solve = solve
         self.refine = None              # decided by the first solve
 
+    def _solve(self, b):
+        from . import _admm_steps as S
+        if b.ndim == 2:
+            return np.column_stack([self._solve(np.ascontiguousarray(col)) for col in b.T])
+        return S.lu_solve(*self.arrays, b)
+
     def _residual(self, x, b):
-        return self.product(x, self.c * x - b)
+        return _product(self.fr)(x, self.c * x - b)
 
     def solve(self, b):
         """The solution of :math:`A x = b` (a new array)."""
@@ -128,40 +177,41 @@ class _Factor:
 class _Anderson:
     """Type-II Anderson extrapolation of a fixed-point map v -> T(v), memory m.
 
-    The differences are kept as the columns of two arrays (no stacking per step) and the
-    least-squares coefficients come from the m x m normal equations (O(n m^2); NumPy's lstsq
-    of the n x m system cost a sixth of an iteration on the 3,970-contact pile).
+    The differences are kept as the rows of two arrays (no stacking per step) and the
+    least-squares coefficients come from the m x m normal equations, their matrix
+    :math:`F F^T` kept and updated by one row per step (O(n m); NumPy's lstsq of the n x m
+    system cost a sixth of an iteration on the 3,970-contact pile, and recomputing
+    :math:`F F^T` with NumPy's solve 16 µs a step on Spheres, under load).
     """
 
     def __init__(self, m: int):
         self.m = m
         self.dG = self.dF = None        # kept by clear(): 2 x 137 kB for KaplasTower
-        self.clear()
+        self.state = np.zeros(2, np.int64)      # (steps in memory, whether v' and T(v') are kept)
 
     def clear(self):
-        self.prev_v = self.prev_tv = None
-        self.k = 0
+        self.state[:] = 0
+
+    def buffers(self, size: int):
+        """``(prev_v, prev_tv, dG, dF, gram, state)``: the memory, as the compiled loop
+        (:func:`._admm_steps.admm_loop`) takes it."""
+        if self.dG is None:
+            self.dG, self.dF = np.empty((self.m, size)), np.empty((self.m, size))
+            self.gram = np.empty((self.m, self.m))
+            self.prev_v, self.prev_tv = np.empty(size), np.empty(size)
+        return self.prev_v, self.prev_tv, self.dG, self.dF, self.gram, self.state
 
     def step(self, v, tv):
         """``(next, extrapolated)``: the extrapolated next iterate from ``v`` and ``T(v)``, or
         ``T(v)`` itself (``extrapolated`` false) at first and where the extrapolation is not
         finite."""
         from . import _admm_steps as S
-        if self.prev_v is not None:
-            if self.dG is None:
-                self.dG, self.dF = np.empty((self.m, v.size)), np.empty((self.m, v.size))
-            slot = self.k % self.m
-            S.anderson_push(v, tv, self.prev_v, self.prev_tv, self.dG[slot], self.dF[slot])
-            self.k += 1
-        self.prev_v, self.prev_tv = v, tv
-        used = min(self.k, self.m)
-        if used == 0:
-            return tv, False
-        try:
-            return S.anderson_mix(self.dF[:used], self.dG[:used], v, tv)
-        except np.linalg.LinAlgError:
-            return tv, False
+        return S.anderson_update(v, tv, *self.buffers(v.size))
 
+
+#: Iterations of one call of the compiled loop (:func:`._admm_steps.admm_loop`) at most: a
+#: time limit is noticed after as many.
+COMPILED_BATCH = 64
 
 #: Factorizations of ``W + cI`` kept on a frame (the oldest dropped first).
 FACTORS_KEPT = 4
@@ -234,7 +284,30 @@ def run_admm(fr: _Frame, r, max_iter: int, mon: _Monitor, opts: ADMMOptions):
     safe_v, safe_res, extrapolated = v, np.inf, False
     last_update, it, paused_until = 0, 0, 0
     best_r, best_err = y.copy(), np.inf
+    compiled = mon.callback is None and mon.handover is None
+    memory = anderson.buffers(2 * n) if anderson is not None else (
+        np.empty(0), np.empty(0), np.empty((0, 2 * n)), np.empty((0, 2 * n)), np.empty((0, 0)),
+        np.zeros(2, np.int64))
+    limits = np.array([mon.tol, fr.r_bound, opts.ratio_primal_dual, max_iter, opts.rho_update_every,
+                       opts.anderson_pause], dtype=float)
+    errs, its = np.empty(COMPILED_BATCH), np.empty(COMPILED_BATCH, np.int64)
     while it < max_iter:
+        if compiled and factor.arrays is not None and factor.kept is None and factor.refine is not None:
+            x, v, safe_v, best_r, y_last = x.copy(), v.copy(), safe_v.copy(), best_r.copy(), np.empty(n)
+            ints = np.array([it, last_update, paused_until, extrapolated], dtype=np.int64)
+            floats = np.array([safe_res, best_err])
+            count, change = S.admm_loop(*factor.arrays, factor.refine, *_compiled_w(fr), q, mu, d, fr.norm_q,
+                                        rho, eta, x, v, s, safe_v, y_last, best_r, *memory, ints, floats, limits,
+                                        errs, its)
+            it, last_update, paused_until, extrapolated = int(ints[0]), int(ints[1]), int(ints[2]), bool(ints[3])
+            safe_res, best_err = float(floats[0]), float(floats[1])
+            if count and mon.record_many("admm", its[:count], y_last, errs[:count]):
+                return y_last, int(its[count - 1])
+            if change:
+                level += change
+                rho = rho0 * step ** level
+                factor = _factor(fr, rho + eta)
+            continue
         it += 1
         x_new = factor.solve(S.x_step_rhs(q, v[:n], x, v[n:], mu, d, rho, eta, s))
         tv, res, primal, dual = S.y_z_steps(x_new, x, v, mu, rho, eta)

@@ -1,10 +1,16 @@
-r"""The O(nc) arithmetic of one ADMM iteration (:mod:`._admm`), compiled.
+r"""One ADMM iteration (:mod:`._admm`), compiled.
 
 Each function does in one call what the iteration did in NumPy expressions, the same
 operations in the same order on every entry (the same bits; only the residual's sum of
 squares is summed in order where NumPy's dot blocked it). The NumPy version cost about
 0.2 ms of Python per iteration on KaplasTower (570 contacts; 5 iterations and 12.6 ms per
 solve), beside the 0.2 ms of the triangular solves and 0.08 ms of the error.
+
+Where the factors of :math:`W + cI` are kept as CSR arrays (:func:`lu_solve`),
+:func:`admm_iteration` is the whole iteration in one call: the x-step's right-hand side, its
+two triangular solves, the y- and z-steps, the residuals and the error of the new iterate.
+SuperLU's ``solve`` spent most of its time in Python and SciPy on small problems (Spheres,
+356 contacts: 46 µs a solve against 16 µs compiled, under load).
 """
 
 from __future__ import annotations
@@ -26,6 +32,146 @@ def x_step_rhs(q, y, x, z, mu, dil, rho, eta, s):
     for i in range(q.size):
         b[i] = -(q[i] + s[i]) + rho * y[i] + eta * x[i] + z[i]
     return b
+
+
+@njit(cache=True)
+def lu_solve(lp, li, lx, up, ui, ux, ud, rows, cols, triples, b):
+    r"""The solution x of :math:`A x = b` from the factors :math:`L U = B`,
+    :math:`B_{ij} = A_{r_i c_j}` (``rows``, ``cols``): L unit lower triangular (its strictly
+    lower part as CSR arrays ``lp, li, lx``), U upper triangular (its strictly upper part
+    ``up, ui, ux`` and its diagonal ``ud``). Row by row (a gather, no scattered writes):
+    :math:`y_i = b_{r_i} - \sum_{j<i} L_{ij} y_j`, then
+    :math:`x_{c_i} = (y_i - \sum_{j>i} U_{ij} x_{c_j}) / U_{ii}`.
+
+    Where ``triples[t]`` (:func:`contact_triples`), the rows 3t, 3t + 1, 3t + 2 (a contact's) share
+    their columns outside the triple and are summed together: three independent sums where
+    one row's sum waited on the last (the solve is bound by the latency of that chain: 2 ns
+    an entry on Spheres' factors, 7 entries a row). The forward sums keep their order (the
+    same bits); the backward ones take the triple's own columns last."""
+    n = b.size
+    y = np.empty(n)
+    i = 0
+    while i < n:
+        if i % 3 == 0 and triples[i // 3] & 1:
+            p0, p1, p2 = lp[i], lp[i + 1], lp[i + 2]
+            m = p1 - p0
+            a0, a1, a2 = b[rows[i]], b[rows[i + 1]], b[rows[i + 2]]
+            for k in range(m):
+                yc = y[li[p0 + k]]
+                a0 -= lx[p0 + k] * yc
+                a1 -= lx[p1 + k] * yc
+                a2 -= lx[p2 + k] * yc
+            y[i] = a0
+            a1 -= lx[p1 + m] * a0
+            y[i + 1] = a1
+            a2 -= lx[p2 + m] * a0
+            a2 -= lx[p2 + m + 1] * a1
+            y[i + 2] = a2
+            i += 3
+            continue
+        acc = b[rows[i]]
+        for p in range(lp[i], lp[i + 1]):
+            acc -= lx[p] * y[li[p]]
+        y[i] = acc
+        i += 1
+    x = np.empty(n)
+    i = n - 1
+    while i >= 0:
+        if i % 3 == 2 and triples[i // 3] & 2:
+            p0, p1, p2 = up[i - 2], up[i - 1], up[i]
+            m = up[i + 1] - p2
+            a0, a1, a2 = y[i - 2], y[i - 1], y[i]
+            for k in range(m):
+                yc = y[ui[p2 + k]]
+                a0 -= ux[p0 + 2 + k] * yc
+                a1 -= ux[p1 + 1 + k] * yc
+                a2 -= ux[p2 + k] * yc
+            y[i] = a2 / ud[i]
+            y[i - 1] = (a1 - ux[p1] * y[i]) / ud[i - 1]
+            y[i - 2] = ((a0 - ux[p0] * y[i - 1]) - ux[p0 + 1] * y[i]) / ud[i - 2]
+            x[cols[i]], x[cols[i - 1]], x[cols[i - 2]] = y[i], y[i - 1], y[i - 2]
+            i -= 3
+            continue
+        acc = y[i]
+        for p in range(up[i], up[i + 1]):
+            acc -= ux[p] * y[ui[p]]
+        y[i] = acc / ud[i]
+        x[cols[i]] = y[i]
+        i -= 1
+    return x
+
+
+@njit(cache=True)
+def contact_triples(lp, li, up, ui):
+    """Per triple of rows (3t, 3t + 1, 3t + 2) of the factors' CSR arrays (each row's columns
+    ascending): bit 1 when L's rows are ``P``, ``P + [3t]``, ``P + [3t, 3t + 1]`` (one set P
+    of columns), bit 2 when U's rows are ``[3t + 1, 3t + 2] + Q``, ``[3t + 2] + Q``, ``Q``."""
+    n = lp.size - 1
+    out = np.zeros(n // 3, np.uint8)
+    for t in range(n // 3):
+        i = 3 * t
+        p0, p1, p2 = lp[i], lp[i + 1], lp[i + 2]
+        m = p1 - p0
+        ok = lp[i + 2] - p1 == m + 1 and lp[i + 3] - p2 == m + 2
+        if ok:
+            ok = li[p1 + m] == i and li[p2 + m] == i and li[p2 + m + 1] == i + 1
+            for k in range(m):
+                if not ok:
+                    break
+                ok = li[p1 + k] == li[p0 + k] and li[p2 + k] == li[p0 + k]
+        if ok:
+            out[t] |= 1
+        q0, q1, q2 = up[i], up[i + 1], up[i + 2]
+        m = up[i + 3] - q2
+        ok = q2 - q1 == m + 1 and q1 - q0 == m + 2
+        if ok:
+            ok = ui[q1] == i + 2 and ui[q0] == i + 1 and ui[q0 + 1] == i + 2
+            for k in range(m):
+                if not ok:
+                    break
+                ok = ui[q1 + 1 + k] == ui[q2 + k] and ui[q0 + 2 + k] == ui[q2 + k]
+        if ok:
+            out[t] |= 2
+    return out
+
+
+@njit(cache=True)
+def factor_solve(lp, li, lx, up, ui, ux, ud, rows, cols, triples, refine, shift, wp, wi, wx, blocks, b):
+    r""":func:`lu_solve`, then, when ``refine``, one step of iterative refinement with
+    :math:`A = W + \text{shift}\,I` (W's CSR arrays, by 3 x 3 blocks when ``blocks``):
+    :math:`x \leftarrow x - A^{-1}(A x - b)`."""
+    x = lu_solve(lp, li, lx, up, ui, ux, ud, rows, cols, triples, b)
+    if refine:
+        c = shift * x - b
+        r = block_matvec(wp, wi, wx, x, c) if blocks else K.csr_matvec(wp, wi, wx, x, c)
+        x = x - lu_solve(lp, li, lx, up, ui, ux, ud, rows, cols, triples, r)
+    return x
+
+
+@njit(cache=True)
+def admm_iteration(lp, li, lx, up, ui, ux, ud, rows, cols, triples, refine, shift, wp, wi, wx, blocks,
+                   q, mu, dil, rho, eta, x, v, s, norm_q):
+    r"""One whole iteration from ``v = (y, z)`` and the last x-step's ``x``: the x-step
+    :math:`x_{new} = (W + (\rho + \eta) I)^{-1}(-(q + s) + \rho y + \eta x + z)`
+    (:func:`x_step_rhs`, :func:`factor_solve`; ``shift`` :math:`= \rho + \eta`), then
+    :func:`y_z_steps` and the error of the new y (:func:`residual_error`).
+    Returns ``(x_new, tv, res, primal, dual, err)``."""
+    b = x_step_rhs(q, v[:q.size], x, v[q.size:], mu, dil, rho, eta, s)
+    x_new = factor_solve(lp, li, lx, up, ui, ux, ud, rows, cols, triples, refine, shift, wp, wi, wx, blocks, b)
+    tv, res, primal, dual = y_z_steps(x_new, x, v, mu, rho, eta)
+    err = residual_error(wp, wi, wx, blocks, q, mu, dil, tv[:q.size], norm_q)
+    return x_new, tv, res, primal, dual, err
+
+
+@njit(cache=True)
+def residual_error(wp, wi, wx, blocks, q, mu, dil, r, norm_q):
+    r"""Siconos' error of ``r`` (:meth:`._frame._Frame.error`):
+    :math:`\sqrt{\sum_a |r_a - P_K(r_a - \hat u_a)|^2} / \max(|q|, |r|, |u|)`,
+    :math:`u = W r + q`, unscaled when that maximum is at most the machine epsilon."""
+    u = block_matvec(wp, wi, wx, r, q) if blocks else K.csr_matvec(wp, wi, wx, r, q)
+    e = np.sqrt(K.error_sum(r, u, mu, dil))
+    scale = max(norm_q, np.sqrt(np.dot(r, r)), np.sqrt(np.dot(u, u)))
+    return e / scale if scale > np.finfo(np.float64).eps else e
 
 
 @njit(cache=True)
@@ -56,30 +202,88 @@ def y_z_steps(x_new, x, v, mu, rho, eta):
 
 
 @njit(cache=True)
-def anderson_push(v, tv, prev_v, prev_tv, dG, dF):
-    r"""The new differences of Anderson's memory: :math:`\Delta G = T(v) - T(v')`,
-    :math:`\Delta F = (T(v) - v) - (T(v') - v')` (into ``dG``, ``dF``)."""
-    for i in range(v.size):
-        dG[i] = tv[i] - prev_tv[i]
-        dF[i] = (tv[i] - v[i]) - (prev_tv[i] - prev_v[i])
+def anderson_step(v, tv, prev_v, prev_tv, dG, dF, gram, slot, used):
+    r"""Type-II Anderson's extrapolation :math:`T(v) - \gamma G` with
+    :math:`(F F^T + 10^{-14} \mathrm{tr}(F F^T) I)\,\gamma = F (T(v) - v)`, F and G the first
+    ``used`` rows of ``dF`` and ``dG``, after writing the newest differences into their row
+    ``slot``: :math:`\Delta G = T(v) - T(v')`, :math:`\Delta F = (T(v) - v) - (T(v') - v')`.
+
+    Two passes over the memory: :math:`F F^T` is kept in ``gram`` (only its row and column
+    ``slot`` are new) and the m x m system is solved by Gaussian elimination with partial
+    pivoting (m is small). Returns ``(out, extrapolated)``: ``tv`` itself and False where the
+    system or the result is not finite."""
+    n = v.size
+    f = np.empty(n)
+    for i in range(n):
+        f[i] = tv[i] - v[i]
+        dG[slot, i] = tv[i] - prev_tv[i]
+        dF[slot, i] = f[i] - (prev_tv[i] - prev_v[i])
+    b = np.empty(used)
+    row = np.empty(used)
+    for j in range(used):                   # contiguous dot products (BLAS)
+        row[j] = np.dot(dF[slot], dF[j])
+        b[j] = np.dot(dF[j], f)
+    for j in range(used):
+        gram[slot, j] = gram[j, slot] = row[j]
+    tr = 0.0
+    for j in range(used):
+        tr += gram[j, j]
+    ok = np.isfinite(tr) and tr > 0.0
+    for j in range(used):
+        ok = ok and np.isfinite(b[j])
+    if not ok:
+        return tv, False                    # NumPy's solve raised or returned NaN here
+    A = np.empty((used, used))
+    for j in range(used):
+        for k in range(used):
+            A[j, k] = gram[j, k]
+        A[j, j] += 1e-14 * tr
+    for k in range(used):                   # elimination with partial pivoting
+        p = k
+        for j in range(k + 1, used):
+            if abs(A[j, k]) > abs(A[p, k]):
+                p = j
+        if p != k:
+            for c in range(used):
+                A[k, c], A[p, c] = A[p, c], A[k, c]
+            b[k], b[p] = b[p], b[k]
+        for j in range(k + 1, used):
+            m = A[j, k] / A[k, k]
+            for c in range(k, used):
+                A[j, c] -= m * A[k, c]
+            b[j] -= m * b[k]
+    gamma = np.empty(used)
+    for k in range(used - 1, -1, -1):
+        acc = b[k]
+        for c in range(k + 1, used):
+            acc -= A[k, c] * gamma[c]
+        gamma[k] = acc / A[k, k]
+    out = tv.copy()
+    for j in range(used):
+        g = gamma[j]
+        for i in range(n):
+            out[i] -= g * dG[j, i]
+    for i in range(n):
+        if not np.isfinite(out[i]):
+            return tv, False
+    return out, True
 
 
 @njit(cache=True)
-def anderson_mix(F, G, v, tv):
-    r"""Type-II Anderson's extrapolation :math:`T(v) - \gamma G` with
-    :math:`(F F^T + 10^{-14} \mathrm{tr}(F F^T) I)\,\gamma = F (T(v) - v)`, and whether it is
-    finite (``tv`` itself when the system is not)."""
-    f = tv - v
-    A = F @ F.T
-    b = F @ f
-    tr = np.trace(A)
-    if not (np.isfinite(tr) and tr > 0.0 and np.all(np.isfinite(b))):
-        return tv, False                    # NumPy's solve raised or returned NaN here
-    gamma = np.linalg.solve(A + 1e-14 * tr * np.eye(A.shape[0]), b)
-    out = tv - gamma @ G
-    if not np.all(np.isfinite(out)):
-        return tv, False
-    return out, True
+def anderson_update(v, tv, prev_v, prev_tv, dG, dF, gram, state):
+    """Anderson's step of :class:`._admm._Anderson` (its memory as arrays; ``state`` = (steps
+    in memory, whether ``prev_v``, ``prev_tv`` hold the last pair)): ``(tv, False)`` at first,
+    :func:`anderson_step` after; the pair ``(v, tv)`` is kept for the next step."""
+    m = dG.shape[0]
+    out, extrapolated = tv, False
+    if state[1]:
+        slot = state[0] % m
+        state[0] += 1
+        out, extrapolated = anderson_step(v, tv, prev_v, prev_tv, dG, dF, gram, slot, min(state[0], m))
+    prev_v[:] = v
+    prev_tv[:] = tv
+    state[1] = 1
+    return out, extrapolated
 
 
 @njit(cache=True)
@@ -127,3 +331,141 @@ def power_iteration(indptr, indices, data, v, iterations, blocks):
             return 0.0
         v = w / lam
     return lam
+
+
+@njit(cache=True)
+def _strict_rows(cp, ci, cx, lower):
+    """The strictly lower (``lower``) or upper part of a square CSC matrix as CSR arrays (each
+    row's columns ascending), and its diagonal (zero where not stored)."""
+    n = cp.size - 1
+    count = np.zeros(n + 1, np.int64)
+    diag = np.zeros(n)
+    for j in range(n):
+        for p in range(cp[j], cp[j + 1]):
+            i = ci[p]
+            if i == j:
+                diag[j] = cx[p]
+            elif (i > j) == lower:
+                count[i + 1] += 1
+    for i in range(n):
+        count[i + 1] += count[i]
+    ptr = count.astype(np.int32)
+    idx = np.empty(count[n], np.int32)
+    val = np.empty(count[n])
+    nxt = count[:n].copy()
+    for j in range(n):
+        for p in range(cp[j], cp[j + 1]):
+            i = ci[p]
+            if i != j and (i > j) == lower:
+                idx[nxt[i]], val[nxt[i]] = j, cx[p]
+                nxt[i] += 1
+    return ptr, idx, val, diag
+
+
+@njit(cache=True)
+def dense_factors(lu, piv):
+    """``(lp, li, lx, up, ui, ux, ud, rows)`` of :func:`lu_solve` from LAPACK's packed LU (L
+    unit lower triangular below the diagonal, U on and above it; their zero entries left out)
+    and its row interchanges ``piv`` (row i swapped with row ``piv[i]``, in turn)."""
+    n = lu.shape[0]
+    rows = np.arange(n)
+    for i in range(n):
+        rows[i], rows[piv[i]] = rows[piv[i]], rows[i]
+    lp, up = np.zeros(n + 1, np.int32), np.zeros(n + 1, np.int32)
+    for i in range(n):
+        lp[i + 1], up[i + 1] = lp[i], up[i]
+        for j in range(n):
+            if lu[i, j] != 0.0 and j != i:
+                if j < i:
+                    lp[i + 1] += 1
+                else:
+                    up[i + 1] += 1
+    li, lx = np.empty(lp[n], np.int32), np.empty(lp[n])
+    ui, ux = np.empty(up[n], np.int32), np.empty(up[n])
+    ud = np.empty(n)
+    for i in range(n):
+        a, b = lp[i], up[i]
+        for j in range(n):
+            e = lu[i, j]
+            if j == i:
+                ud[i] = e
+            elif e != 0.0:
+                if j < i:
+                    li[a], lx[a] = j, e
+                    a += 1
+                else:
+                    ui[b], ux[b] = j, e
+                    b += 1
+    return lp, li, lx, up, ui, ux, ud, rows
+
+
+def csr_factors(L, U):
+    """``(lp, li, lx, up, ui, ux, ud)`` of :func:`lu_solve` from the CSC factors L (unit lower
+    triangular) and U (upper triangular) of SciPy's SuperLU or of dense triangles."""
+    lp, li, lx, _ = _strict_rows(L.indptr, L.indices, L.data, True)
+    up, ui, ux, ud = _strict_rows(U.indptr, U.indices, U.data, False)
+    return lp, li, lx, up, ui, ux, ud
+
+
+@njit(cache=True)
+def admm_loop(lp, li, lx, up, ui, ux, ud, rows, cols, triples, refine, wp, wi, wx, blocks, q, mu, dil, norm_q,
+              rho, eta, x, v, s, safe_v, y, best_r, prev_v, prev_tv, dG, dF, gram, astate, ints, floats,
+              limits, errs, its):
+    r"""ADMM's iterations (:func:`._admm.run_admm`) at one value of :math:`\rho`, compiled,
+    each by :func:`admm_iteration`, until one of: ``limits[3]`` (max_iter) iterations in all,
+    ``errs.size`` iterations recorded in this call, an error at most ``limits[0]`` (tol), not
+    finite, or a new y beyond ``limits[1]`` in norm (the run stops), or a change of
+    :math:`\rho` asked by the residuals' balance (``limits[2]``: the ratio; ``limits[4]``: at
+    most every this many iterations; the caller refactorizes).
+
+    The run's state is read and written in place: ``x``, ``v = (y, z)``, ``s``, the last
+    plain ``safe_v``, the last y and the best one (``y``, ``best_r``), Anderson's memory
+    (:func:`anderson_update`; none when ``dG`` has no row; ``limits[5]``: its pause after a
+    dropped extrapolation), ``ints`` = (iteration, iteration of the last change of
+    :math:`\rho`, end of the pause, whether v is extrapolated), ``floats`` = (residual of
+    ``safe_v``, best error). The errors and iteration numbers recorded go to ``errs`` and
+    ``its``. Returns ``(recorded, change)``: change +1 (raise :math:`\rho`), -1 (lower it),
+    0 (none)."""
+    n = q.size
+    it, last_update, paused_until, extrapolated = ints[0], ints[1], ints[2], ints[3] != 0
+    safe_res, best_err = floats[0], floats[1]
+    tol, r_bound, ratio = limits[0], limits[1], limits[2]
+    max_iter, every, pause = np.int64(limits[3]), np.int64(limits[4]), np.int64(limits[5])
+    count, change = 0, 0
+    while it < max_iter and count < errs.size:
+        it += 1
+        x_new, tv, res, primal, dual, err = admm_iteration(lp, li, lx, up, ui, ux, ud, rows, cols, triples, refine,
+                                                           rho + eta, wp, wi, wx, blocks, q, mu, dil, rho,
+                                                           eta, x, v, s, norm_q)
+        if extrapolated and res > safe_res:     # the extrapolation did not pay: the plain step
+            astate[:] = 0
+            v[:] = safe_v
+            extrapolated = False
+            paused_until = it + pause
+            continue
+        x[:] = x_new
+        y[:] = tv[:n]
+        if err < best_err:
+            best_r[:] = y
+            best_err = err
+        errs[count], its[count] = err, it
+        count += 1
+        if err <= tol or not np.isfinite(err) or np.sqrt(np.dot(y, y)) > r_bound:
+            break
+        if it - last_update >= every and max(primal, dual) > 0:
+            change = 1 if primal > ratio * dual else (-1 if dual > ratio * primal else 0)
+            if change != 0:
+                last_update = it
+                astate[:] = 0
+        safe_v[:] = tv
+        safe_res = res
+        if dG.shape[0] > 0 and it >= paused_until:
+            out, extrapolated = anderson_update(v, tv, prev_v, prev_tv, dG, dF, gram, astate)
+            v[:] = out
+        else:
+            v[:] = tv
+        if change != 0:
+            break
+    ints[0], ints[1], ints[2], ints[3] = it, last_update, paused_until, np.int64(extrapolated)
+    floats[0], floats[1] = safe_res, best_err
+    return count, change

@@ -172,6 +172,15 @@ class _Monitor:
             self.reason = "handover"
         return bool(self.reason)
 
+    def record_many(self, method: str, iterations, r, errors) -> bool:
+        """:meth:`record` for iterations run in compiled code (``r``: the last one's
+        reactions), where no callback nor handover is set: the stop is decided at the last
+        (the compiled loop stops itself at convergence and unboundedness; a time limit is
+        noticed at the end of the batch)."""
+        self.errors.extend(float(e) for e in errors[:-1])
+        self.iterations.extend(self.offset + int(k) for k in iterations[:-1])
+        return self.record(method, int(iterations[-1]), r, float(errors[-1]))
+
     def predicted(self) -> float:
         """Iterations still needed to ``tol`` at the linear rate of the current stage's last
         :data:`RATE_POINTS` errors (inf when they do not fall; 0 with fewer points)."""

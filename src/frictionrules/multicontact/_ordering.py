@@ -448,6 +448,16 @@ def frame_ordering(fr):
     return fr.cache["ordering"]
 
 
+def ordered_superlu(indptr, indices, data, perm, c: float = 0.0, dense_blocks=None):
+    r"""SuperLU's factorization of :math:`P (A + cI) P^T` (see :func:`ordered_lu`)."""
+    import scipy.sparse as sp
+    import scipy.sparse.linalg as spla
+    n = perm.size
+    ptr, rows, vals = shifted_permuted_csc(indptr, indices, data, perm, c, dense_blocks)
+    return spla.splu(sp.csc_matrix((vals, rows, ptr), shape=(n, n)), permc_spec="NATURAL",
+                     diag_pivot_thresh=0.0, panel_size=PANEL_SIZE, options={"SymmetricMode": True})
+
+
 def ordered_lu(indptr, indices, data, perm, c: float = 0.0, dense_blocks=None):
     r"""A solver of :math:`(A + cI) x = b` (b a vector or the columns of an array) from one
     SuperLU factorization of :math:`P (A + cI) P^T` (A's CSR arrays, rows sorted; ``perm`` a
@@ -456,12 +466,7 @@ def ordered_lu(indptr, indices, data, perm, c: float = 0.0, dense_blocks=None):
     diagonal pivots in symmetric mode: no pivoting, so the fill is the ordering's. Raises ``RuntimeError`` where a pivot is exactly zero; a tiny
     one costs digits, which the caller measures (by a residual) and refines.
     """
-    import scipy.sparse as sp
-    import scipy.sparse.linalg as spla
-    n = perm.size
-    ptr, rows, vals = shifted_permuted_csc(indptr, indices, data, perm, c, dense_blocks)
-    lu = spla.splu(sp.csc_matrix((vals, rows, ptr), shape=(n, n)), permc_spec="NATURAL",
-                   diag_pivot_thresh=0.0, panel_size=PANEL_SIZE, options={"SymmetricMode": True})
+    lu = ordered_superlu(indptr, indices, data, perm, c, dense_blocks)
 
     def solve(b):
         x = np.empty_like(b)
