@@ -96,8 +96,8 @@ class Scene:
                       for i in range(self.ngeom)]
         self._cache: dict[int, object] = {}
         self._last_keys, self._last_laws = None, ()
-        #: the last step's problem and the laws tuple it was built with (renewed while the
-        #: contacts' laws are the same)
+        #: the laws tuple of the last step and its ContactLaws (kept while the contacts' laws
+        #: are the same)
         self.problem = None
         from ._assemble import Trees
         self.trees = Trees(model)
