@@ -77,7 +77,9 @@ def refuse_other_rows(mujoco, model, data) -> None:
     nefc = int(data.nefc)
     if nefc == 0:
         return
-    types = np.asarray(data.efc_type[:nefc])
+    types = data.efc_type[:nefc]
+    if types.min() > _CONTACT_FRICTIONLESS:      # contacts with friction only (one pass)
+        return
     other = types < _CONTACT_FRICTIONLESS
     if other.any():
         i = int(np.flatnonzero(other)[0])
@@ -176,8 +178,11 @@ def assemble(sp, mujoco, model, data, scene, baumgarte: float) -> Assembled:
     pos = np.array(con.pos[:ncon])
     if not whole:
         frames, gap, pos = frames[active], gap[active], pos[active]
-    owner = scene.axis_owner(geom1, geom2)
-    law_frames, fallback = _law_frames(frames, owner, np.asarray(data.geom_xmat), scene.axes)
+    if scene.any_axis:
+        owner = scene.axis_owner(geom1, geom2)
+        law_frames, fallback = _law_frames(frames, owner, np.asarray(data.geom_xmat), scene.axes)
+    else:
+        law_frames, fallback = frames, 0
     if law_frames is frames:
         C, turned = _NO_TURN, np.zeros(active.size, dtype=np.bool_)
     else:

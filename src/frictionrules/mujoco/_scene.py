@@ -92,6 +92,7 @@ class Scene:
                                          "in the geom's frame")
             self.axes[g] = v / np.linalg.norm(v)
             self.has_axis[g] = True
+        self.any_axis = bool(self.has_axis.any())
         self.names = [mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, i) or f"geom {i}"
                       for i in range(self.ngeom)]
         self._cache: dict[int, object] = {}

@@ -23,6 +23,7 @@ values (``efc_force`` in the elliptic layout, (N, T1, T2) of MuJoCo's contact fr
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -128,12 +129,18 @@ _FULL = ("mjWARN_CONTACTFULL", "mjWARN_CNSTRFULL")
 _INTEGRATORS = {0: "mj_Euler", 2: "mj_implicit", 3: "mj_implicit"}
 
 
+@functools.cache
+def _full_warnings(mujoco) -> tuple:
+    """The indices of :data:`_FULL` in ``data.warning``."""
+    return tuple(int(getattr(mujoco.mjtWarning, name)) for name in _FULL)
+
+
 def _forward(mujoco, model, data):
     if int(model.opt.integrator) not in _INTEGRATORS:
         raise FrictionRulesError("model.opt.integrator = RK4 is refused (its stages call MuJoCo's "
                                  "solver); use Euler, implicit or implicitfast")
     opt = model.opt
-    full = [int(getattr(mujoco.mjtWarning, name)) for name in _FULL]
+    full = _full_warnings(mujoco)
     before = [int(data.warning[i].number) for i in full]
     solver, cone = int(opt.solver), int(opt.cone)
     opt.solver = mujoco.mjtSolver.mjSOL_NEWTON  # no efc_AR (a dual solver's): W is built from efc_J
@@ -219,7 +226,8 @@ def _advance(mujoco, model, data, scene: Scene, previous, p: _Params) -> StepRes
     if nc:
         # the impulses in MuJoCo's frames are its efc_force times h; J^T of them by MuJoCo
         efc = np.zeros(int(data.nefc))
-        efc[A.rows] = np.einsum("kij,kj->ki", A.mj_frames, force).ravel()
+        # the law frames are MuJoCo's where no geom has axes: r / h is then efc_force already
+        efc[A.rows] = (r / h if A.frames is A.mj_frames else np.einsum("kij,kj->ki", A.mj_frames, force)).ravel()
         data.efc_force[:] = efc
         mujoco.mj_mulJacTVec(model, data, data.qfrc_constraint, efc)
         # qacc = qacc_smooth + M^-1 J^T r / h, M^-1 J^T r from the blocks
