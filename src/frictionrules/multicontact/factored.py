@@ -207,11 +207,11 @@ def solve_factored(laws: ContactLaws, blocks: TreeBlocks, q, r0=None, *, tol: fl
                                           workspace(0))
         measure = "law"
     from ._frame import UNBOUNDED
-    diag = np.abs(np.einsum("aii->ai", b.D)).ravel()
-    mean_diag = float(np.mean(diag[diag > 0])) if np.any(diag > 0) else 1.0
+    diag = np.abs(b.D.reshape(-1, 9)[:, ::4])
+    positive = diag > 0
+    mean_diag = float(diag.sum() / positive.sum()) if positive.any() else 1.0
     bounded = bool(np.sqrt(r @ r) <= UNBOUNDED * max(norm_q, np.finfo(float).tiny) / mean_diag)
     reason = "converged" if err <= tol and bounded else ("max_iter" if bounded else "unbounded")
-    return Solution(r=r, u=u, error=float(err), iterations=int(it), converged=reason == "converged",
-                    history=hist_err[:nh].copy(), history_iterations=hist_it[:nh].copy(), method="nsgs",
-                    seconds=time.perf_counter() - t0, reason=reason, cpu_seconds=time.thread_time() - c0,
-                    error_measure=measure)
+    return Solution._record(r, u, float(err), int(it), reason == "converged", hist_err[:nh].copy(),
+                            hist_it[:nh].copy(), "nsgs", time.perf_counter() - t0, reason,
+                            time.thread_time() - c0, measure)
