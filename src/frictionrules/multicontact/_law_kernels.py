@@ -174,9 +174,7 @@ def _newton(A, b, fn, row, om, r0, r1, r2, local_iter, local_tol, s, du, s1, res
     r"""Semismooth Newton on :math:`R(r) = r - P_K(r - K(Ar + b))`, the generalized Jacobian
     :math:`I - \partial P_K (I - KA)` from the return's consistent tangent, a step halved
     while it does not lower :math:`|R|`; where no step lowers it, the fixed point
-    :math:`r \leftarrow r - R(r)` is taken instead, and where that does not lower it either
-    the iteration stops there (round-off: the sweeps continue the contact). Returns ``(r,
-    converged)``."""
+    :math:`r \leftarrow r - R(r)` is taken instead. Returns ``(r, converged)``."""
     kt, kn = om * row[LAW_KT], om * row[LAW_KN]
     DP = np.empty((3, 3))
     J = np.empty((3, 3))
@@ -226,10 +224,6 @@ def _newton(A, b, fn, row, om, r0, r1, r2, local_iter, local_tol, s, du, s1, res
             t0, t1, t2 = r0 - R0, r1 - R1, r2 - R2
             S0, S1, S2, bad = _residual(A, b, fn, row, om, t0, t1, t2, s, du, s1, res, ws, tan, True)
             nS = np.sqrt(S0 * S0 + S1 * S1 + S2 * S2)
-            if ok and not bad and nS >= nR:
-                # neither Newton's step nor the fixed point lowers |R|: round-off (the
-                # local tolerance is a few ulps); the sweeps continue from here
-                break
         r0, r1, r2 = t0, t1, t2
         R0, R1, R2, nR, failed = S0, S1, S2, nS, bad
     return r0, r1, r2, nR <= local_tol * np.sqrt(r0 * r0 + r1 * r1 + r2 * r2) or nR == 0.0
