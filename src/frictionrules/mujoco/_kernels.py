@@ -105,8 +105,31 @@ def contact_blocks(addr, rowadr, rownnz, colind, jdata, dof_tree, tree_dofadr, t
             if t >= 0:
                 off[a, s] = size
                 size += 3 * tree_dofnum[t]
+    # the non-zeros of each tree's block of M^-1, row by row (a free body's is diagonal where
+    # its principal axes are the body's: 6 of 36), so that B skips the zeros
+    ntree = tree_dofadr.size
+    nzptr = np.zeros(ntree + 1, np.int64)
+    for t in range(ntree):
+        c0, n = tree_dofadr[t], tree_dofnum[t]
+        m = 0
+        for j in range(n):
+            for k in range(n):
+                if X[j, c0 + k] != 0.0:
+                    m += 1
+        nzptr[t + 1] = nzptr[t] + m
+    nzj = np.empty(nzptr[ntree], np.int64)
+    nzk = np.empty(nzptr[ntree], np.int64)
+    nzv = np.empty(nzptr[ntree])
+    for t in range(ntree):
+        c0, n = tree_dofadr[t], tree_dofnum[t]
+        e = nzptr[t]
+        for j in range(n):
+            for k in range(n):
+                if X[j, c0 + k] != 0.0:
+                    nzj[e], nzk[e], nzv[e] = j, k, X[j, c0 + k]
+                    e += 1
     Jp = np.zeros(size)
-    Bp = np.empty(size)
+    Bp = np.zeros(size)
     D = np.zeros((nc, 3, 3))
     q = np.empty(3 * nc)
     for a in range(nc):
@@ -129,13 +152,11 @@ def contact_blocks(addr, rowadr, rownnz, colind, jdata, dof_tree, tree_dofadr, t
                     Jp[p + n + k] = C[a, 0, 0] * x1 + C[a, 0, 1] * x2
                     Jp[p + 2 * n + k] = C[a, 1, 0] * x1 + C[a, 1, 1] * x2
             for l in range(3):
-                for j in range(n):
-                    acc = 0.0
-                    for k in range(n):
-                        acc += Jp[p + l * n + k] * X[j, c0 + k]
-                    Bp[p + l * n + j] = acc
+                row = p + l * n
+                for e in range(nzptr[t], nzptr[t + 1]):      # B[l, j] = sum_k J[l, k] X[j, c0 + k]
+                    Bp[row + nzj[e]] += Jp[row + nzk[e]] * nzv[e]
                 for k in range(n):
-                    u[l] += Jp[p + l * n + k] * vfree[c0 + k]
+                    u[l] += Jp[row + k] * vfree[c0 + k]
             for l in range(3):
                 for l2 in range(3):
                     acc = 0.0
