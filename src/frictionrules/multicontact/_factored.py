@@ -88,13 +88,33 @@ def contact_velocity(tree, off, Jp, dofadr, dofnum, v, q, u):
 
 
 @njit(cache=True)
+def _cone_error(tree, off, Jp, dofadr, dofnum, v, q, u, r, mu, dil, norm_q):
+    """Siconos' error of ``r`` with ``u = J v + q`` (written to ``u``)."""
+    contact_velocity(tree, off, Jp, dofadr, dofnum, v, q, u)
+    scale = max(norm_q, norm2(r), norm2(u))
+    err = np.sqrt(error_sum(r, u, mu, dil))
+    return err / scale if scale > _EPS else err
+
+
+@njit(cache=True)
+def _law_error(tree, off, Jp, dofadr, dofnum, v, q, u, r, fn, rows_1, ws, resid, norm_q):
+    """The law path's error of ``r`` with ``u = J v + q`` (written to ``u``)."""
+    contact_velocity(tree, off, Jp, dofadr, dofnum, v, q, u)
+    natural_residual(fn, rows_1, r, u, ws, resid)
+    err = norm2(resid)
+    scale = max(norm_q, norm2(r), norm2(u))
+    return err / scale if scale > _EPS else err
+
+
+@njit(cache=True)
 def factored_nsgs(tree, off, Jp, Bp, dofadr, dofnum, D, q, mu, dil, r, v, u, tol, max_iter,
                   hist_err, hist_it, norm_q, max_interval):
     """The cone path's sweeps (:func:`._kernels.nsgs`, the same checks of the error: Siconos'
     measure after the sweeps where the relative change of ``r`` is below ``tol``, at the
     intervals of :func:`._kernels.check_interval` and after the last). ``r`` updated in place,
-    ``v`` must be :func:`impulse_velocity` of ``r`` on entry and is on return (recomputed at
-    each check), ``u`` holds ``J v + q`` at the last check. Returns ``(sweeps, error,
+    ``v`` must be :func:`impulse_velocity` of ``r`` on entry and is on return (kept by the
+    updates, computed anew where a check finds the error at most ``tol`` and after the last
+    sweep, and the error evaluated again), ``u`` holds ``J v + q`` at the last check. Returns ``(sweeps, error,
     evaluations)``."""
     nc = mu.size
     b = np.empty(3)
@@ -117,12 +137,10 @@ def factored_nsgs(tree, off, Jp, Bp, dofadr, dofnum, D, q, mu, dil, r, v, u, tol
         light = np.sqrt(dr2 / rr) if rr > 0.0 else np.sqrt(dr2)
         if it < next_check and light > tol and it < max_iter:
             continue
-        impulse_velocity(tree, off, Bp, dofadr, dofnum, r, v)     # no drift from the updates
-        contact_velocity(tree, off, Jp, dofadr, dofnum, v, q, u)
-        scale = max(norm_q, norm2(r), norm2(u))
-        err = np.sqrt(error_sum(r, u, mu, dil))
-        if scale > _EPS:
-            err /= scale
+        err = _cone_error(tree, off, Jp, dofadr, dofnum, v, q, u, r, mu, dil, norm_q)
+        if err <= tol or it == max_iter:      # v anew (no drift from the updates), the error again
+            impulse_velocity(tree, off, Bp, dofadr, dofnum, r, v)
+            err = _cone_error(tree, off, Jp, dofadr, dofnum, v, q, u, r, mu, dil, norm_q)
         hist_err[nh] = err
         hist_it[nh] = it
         nh += 1
@@ -161,13 +179,10 @@ def factored_law_nsgs(tree, off, Jp, Bp, dofadr, dofnum, D, q, fn, rows_k, rows_
         light = np.sqrt(dr2 / rr) if rr > 0.0 else np.sqrt(dr2)
         if it < next_check and light > tol and it < max_iter:
             continue
-        impulse_velocity(tree, off, Bp, dofadr, dofnum, r, v)
-        contact_velocity(tree, off, Jp, dofadr, dofnum, v, q, u)
-        natural_residual(fn, rows_1, r, u, ws, resid)
-        err = norm2(resid)
-        scale = max(norm_q, norm2(r), norm2(u))
-        if scale > _EPS:
-            err /= scale
+        err = _law_error(tree, off, Jp, dofadr, dofnum, v, q, u, r, fn, rows_1, ws, resid, norm_q)
+        if err <= tol or it == max_iter:      # v anew (no drift from the updates), the error again
+            impulse_velocity(tree, off, Bp, dofadr, dofnum, r, v)
+            err = _law_error(tree, off, Jp, dofadr, dofnum, v, q, u, r, fn, rows_1, ws, resid, norm_q)
         hist_err[nh] = err
         hist_it[nh] = it
         nh += 1
