@@ -124,7 +124,7 @@ class Scene:
 
     def laws_of(self, geom1: np.ndarray, geom2: np.ndarray) -> tuple:
         """The law of each contact ``(geom1[i], geom2[i])``; the same tuple object as the last
-        call's when the contacts' pairs are the same (a step's problem is then renewed)."""
+        call's when the contacts' pairs are the same (the laws' reduction is then kept)."""
         keys = np.minimum(geom1, geom2) * self.ngeom + np.maximum(geom1, geom2)
         if self._last_keys is not None and np.array_equal(keys, self._last_keys):
             return self._last_laws

@@ -143,7 +143,7 @@ def _forward(mujoco, model, data):
     full = _full_warnings(mujoco)
     before = [int(data.warning[i].number) for i in full]
     solver, cone = int(opt.solver), int(opt.cone)
-    opt.solver = mujoco.mjtSolver.mjSOL_NEWTON  # no efc_AR (a dual solver's): W is built from efc_J
+    opt.solver = mujoco.mjtSolver.mjSOL_NEWTON  # no efc_AR (a dual solver's): W is kept by its factors from efc_J
     opt.cone = mujoco.mjtCone.mjCONE_ELLIPTIC   # rows N, T1, T2 of each contact's frame
     try:
         mujoco.mj_fwdPosition(model, data)
