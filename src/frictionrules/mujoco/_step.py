@@ -23,6 +23,7 @@ values (``efc_force`` in the elliptic layout, (N, T1, T2) of MuJoCo's contact fr
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 from dataclasses import dataclass, field
 
@@ -30,6 +31,7 @@ import numpy as np
 
 from .._optional import require
 from ..errors import FrictionRulesError, check_scalar
+from ..multicontact import METHODS, ContactLaws, FrictionContactProblem, solve, solve_factored
 from ._assemble import assemble
 from ._scene import Scene
 
@@ -166,7 +168,6 @@ FACTORED_SWEEPS = 50
 def _contact_laws(scene: Scene, geom1, geom2):
     """The contacts' :class:`~frictionrules.multicontact.factored.ContactLaws`, reduced again
     only when the contacts' laws change (the tuple :meth:`Scene.laws_of` returns)."""
-    from ..multicontact.factored import ContactLaws
     laws = scene.laws_of(geom1, geom2)
     last = scene.problem
     if last is not None and last[0] is laws:
@@ -182,10 +183,6 @@ def _solve(A, claws, r0, p: _Params):
     :data:`FACTORED_SWEEPS` sweeps, and for the other methods and elliptic cones with turned
     frames, :func:`frictionrules.solve` on W (:meth:`TreeBlocks.delassus`), from the sweeps'
     impulses."""
-    import dataclasses
-
-    from ..multicontact import METHODS, FrictionContactProblem, solve
-    from ..multicontact.factored import solve_factored
     limit = METHODS[p.method].max_iter if p.max_iter is None else int(p.max_iter)
     first = None
     if p.method in ("auto", "nsgs") and (claws.path == "law" or claws.frames is None):

@@ -32,6 +32,7 @@ import numpy as np
 
 from ..errors import FrictionRulesError, check_finite
 from ._law_path import LOCAL_ITER, LOCAL_TOL
+from ._methods import options_for
 from .problem import Solution, _contact_states, _parameters
 
 __all__ = ["ContactLaws", "TreeBlocks", "solve_factored"]
@@ -163,7 +164,6 @@ def solve_factored(laws: ContactLaws, blocks: TreeBlocks, q, r0=None, *, tol: fl
     Solution
         ``method`` ``"nsgs"``; ``error_measure`` ``"fc3d"`` or ``"law"``.
     """
-    from ._options import NSGSOptions
     t0, c0 = time.perf_counter(), time.thread_time()
     if not isinstance(laws, ContactLaws):
         raise FrictionRulesError(f"laws = {laws!r} is not a ContactLaws")
@@ -184,7 +184,8 @@ def solve_factored(laws: ContactLaws, blocks: TreeBlocks, q, r0=None, *, tol: fl
     max_iter = int(max_iter)
     if max_iter < 1:
         raise FrictionRulesError(f"max_iter = {max_iter} violates: an integer >= 1")
-    interval = NSGSOptions().max_check_interval if max_check_interval is None else int(max_check_interval)
+    interval = (options_for("nsgs", None).max_check_interval if max_check_interval is None
+                else int(max_check_interval))
     from . import _factored as K
     b = blocks
     v, u = np.empty(b.nv), np.empty(3 * nc)
