@@ -90,13 +90,13 @@ def breakdown(model, law, steps: int) -> dict:
     import mujoco
     import scipy.sparse as sp
 
-    import frictionrules as fr
     from frictionrules.mujoco import Simulator, _assemble, _step
     sim = Simulator(model, {}, default=law)
     sim.step(30)
     h = model.opt.timestep
-    names = ("MuJoCo forward stages", "assemble W, q", "laws", "FrictionContactProblem", "warm start",
-             "solve", "integrate (mj_mulJacTVec, mj_solveM, mj_Euler)")
+    p = sim._params
+    names = ("MuJoCo forward stages", "blocks of W, q (mj_solveM, compiled)", "laws (reduced once)",
+             "warm start", "solve", "integrate (efc_force, mj_mulJacTVec, M^-1 J^T r, mj_Euler)")
     total = dict.fromkeys(names, 0.0)
     for _ in range(steps):
         t = [time.thread_time()]
@@ -104,24 +104,18 @@ def breakdown(model, law, steps: int) -> dict:
         t.append(time.thread_time())
         A = _assemble.assemble(sp, mujoco, model, sim.data, sim._scene, 0.2)
         t.append(time.thread_time())
-        laws = sim._scene.laws_of(A.geom1, A.geom2)
-        t.append(time.thread_time())
-        last = sim._scene.problem
-        problem = (last[1].renewed(A.W, A.q) if last is not None and last[0] is laws
-                   else fr.FrictionContactProblem(A.W, A.q, laws))
+        claws = _step._contact_laws(sim._scene, A.geom1, A.geom2)
         t.append(time.thread_time())
         r0, _ = _step._warm_start(sim.last, A, h, sim._scene.ngeom, 0.01)
         t.append(time.thread_time())
-        sol = fr.solve(problem, "auto", 1e-10, 1000, r0=r0)
+        sol = _step._solve(A, claws, r0, p)
         t.append(time.thread_time())
         force = np.einsum("ki,kij->kj", sol.r.reshape(-1, 3), A.frames) / h
         efc = np.zeros(int(sim.data.nefc))
         efc[A.rows] = np.einsum("kij,kj->ki", A.mj_frames, force).ravel()
-        impulse = np.zeros(model.nv)
-        mujoco.mj_mulJacTVec(model, sim.data, impulse, efc)
-        x = impulse[None, :].copy()
-        mujoco.mj_solveM(model, sim.data, x, impulse[None, :])
-        sim.data.qacc[:] = sim.data.qacc_smooth + x[0]
+        sim.data.efc_force[:] = efc
+        mujoco.mj_mulJacTVec(model, sim.data, sim.data.qfrc_constraint, efc)
+        np.add(sim.data.qacc_smooth, A.blocks.impulse_velocity(sol.r) / h, out=sim.data.qacc)
         mujoco.mj_Euler(model, sim.data)
         t.append(time.thread_time())
         for name, a, b in zip(names, t[:-1], t[1:]):

@@ -450,8 +450,10 @@ def test_W_from_efc_J_is_J_Minv_JT_and_q_is_the_free_velocity(jacobian):
     J = np.vstack(rows)
     X = np.zeros_like(J)
     mujoco.mj_solveM(m, data, X, J.copy())
-    W = A.W.toarray() if sp.issparse(A.W) else A.W
+    W = A.blocks.delassus().toarray()
     assert np.abs(W - J @ X.T).max() < 1e-13 * np.abs(W).max()
+    D = np.array([W[3 * a:3 * a + 3, 3 * a:3 * a + 3] for a in range(data.ncon)])
+    assert np.abs(A.blocks.D - D).max() < 1e-13 * np.abs(W).max()
     gap = np.repeat(A.gap, 3) * np.tile([1.0, 0.0, 0.0], data.ncon)
     gap = np.where(gap > 0, gap, 0.2 * gap) / m.opt.timestep
     assert A.q == pytest.approx(J @ (data.qvel + m.opt.timestep * data.qacc_smooth) + gap, abs=1e-13)
@@ -489,13 +491,15 @@ def articulated_xml():
 
 
 def test_W_tree_by_tree_equals_the_dense_J_Minv_JT_of_an_articulated_model():
-    """:math:`W = J M^{-1} J^T` from the kernel (the blocks of :math:`M^{-1}` of each kinematic
-    tree from one ``mj_solveM``) against the dense product of all of ``efc_J`` with
-    ``mj_solveM`` of every row, on trees of 4 (hinge + ball), 6 (free) and 1 (slide) dofs, and
-    for a subset of the rows (the kernel's ``rows`` argument)."""
+    """:math:`W = J M^{-1} J^T` from the blocks per contact and tree (the blocks of
+    :math:`M^{-1}` of each kinematic tree from one ``mj_solveM``) against the dense product of
+    all of ``efc_J`` with ``mj_solveM`` of every row, on trees of 4 (hinge + ball), 6 (free) and
+    1 (slide) dofs, for all the contacts and for a subset; ``M^-1 J^T r`` and ``J v + q`` of
+    the blocks against the dense products."""
     import scipy.sparse as sp
 
-    from frictionrules.mujoco import _assemble, _scene, _step
+    from frictionrules.mujoco import _assemble, _kernels, _scene, _step
+    from frictionrules.multicontact.factored import TreeBlocks
     m = mujoco.MjModel.from_xml_string(articulated_xml())
     data = mujoco.MjData(m)
     data.qpos[0] = 0.3                      # lower the arm onto the floor
@@ -510,12 +514,22 @@ def test_W_tree_by_tree_equals_the_dense_J_Minv_JT_of_an_articulated_model():
     mujoco.mj_solveM(m, data, X, J.copy())
     dense = J @ X.T
     trees = _scene.Scene(mujoco, m, {}, default=0.5).trees
-    rows = np.arange(data.nefc)
-    W = _assemble._delassus(sp, mujoco, m, data, trees, rows).toarray()
-    assert np.abs(W - dense).max() <= 1e-13 * np.abs(dense).max()
-    some = rows[3:]
-    Ws = _assemble._delassus(sp, mujoco, m, data, trees, some).toarray()
-    assert np.abs(Ws - dense[np.ix_(some, some)]).max() <= 1e-13 * np.abs(dense).max()
+    mujoco.mj_solveM(m, data, trees.X, trees.rhs)
+    rowadr, rownnz, colind, values = _assemble._jacobian_csr(sp, mujoco, m, data)
+    addr = np.arange(0, data.nefc, 3)
+    rng = np.random.default_rng(2)
+    for some in (addr, addr[1:]):
+        nc = some.size
+        tree, off, Jp, Bp, D, q = _kernels.contact_blocks(
+            some, rowadr, rownnz, colind, values, trees.dof_tree, trees.dofadr, trees.dofnum, trees.X,
+            np.zeros((1, 2, 2)), np.zeros(nc, dtype=bool), np.zeros(m.nv), np.zeros(nc), 0.2, 1.0)
+        blocks = TreeBlocks(tree, off, Jp, Bp, trees.dofadr, trees.dofnum, D, m.nv)
+        rows = (some[:, None] + np.arange(3)).ravel()
+        W = blocks.delassus().toarray()
+        assert np.abs(W - dense[np.ix_(rows, rows)]).max() <= 1e-13 * np.abs(dense).max()
+        r, v = rng.normal(size=3 * nc), rng.normal(size=m.nv)
+        assert np.abs(blocks.impulse_velocity(r) - X[rows].T @ r).max() <= 1e-13 * np.abs(X).max() * np.abs(r).sum()
+        assert blocks.velocity(v, q) == pytest.approx(J[rows] @ v + q, abs=1e-13 * np.abs(J).max() * np.abs(v).sum())
 
 
 def test_warm_start_takes_the_nearest_previous_contact_of_the_pair_in_its_own_frame():

@@ -13,13 +13,15 @@ q_{smooth} + M^{-1}J^T r / h)` gives
     u^+ = W r + q, \qquad W = J M^{-1} J^T, \qquad q = J(\dot q + h\,\ddot q_{smooth})
           + \tfrac1h\,\gamma\,e_N,
 
-``r`` the contact impulses over the step (``r_N >= 0`` compression). ``q`` is MuJoCo's
-product ``mj_mulJacVec`` (and the impulses go back through ``mj_mulJacTVec``). ``W`` is
-:math:`J M^{-1} J^T` from ``efc_J`` (sparse or dense as the model's ``opt.jacobian`` makes it)
-and the blocks of :math:`M^{-1}` of the kinematic trees, all of them from one ``mj_solveM``
-(:mod:`._kernels`): what MuJoCo's ``efc_AR - diag(efc_R)`` holds for its dual solvers, without
-setting ``opt.solver`` to one of them (which made ``mj_fwdPosition`` three times dearer). No
-product runs in a Python loop over contacts.
+``r`` the contact impulses over the step (``r_N >= 0`` compression). ``W`` is kept by its
+factors: per contact and kinematic tree the blocks :math:`J_{a,t}` of ``efc_J`` (sparse or
+dense as the model's ``opt.jacobian`` makes it) and :math:`J_{a,t} M_t^{-1}`, the blocks of
+:math:`M^{-1}` of every tree from one ``mj_solveM`` (:mod:`._kernels`,
+:class:`~frictionrules.multicontact.factored.TreeBlocks`), so that
+:math:`W_{ac} = \sum_t J_{a,t} M_t^{-1} J_{c,t}^T` is what MuJoCo's ``efc_AR - diag(efc_R)``
+holds for its dual solvers, without setting ``opt.solver`` to one of them (which made
+``mj_fwdPosition`` three times dearer). ``q`` is :math:`J_a(\dot q + h\ddot q_{smooth})`
+from the same blocks. No product runs in a Python loop over contacts.
 
 The gap term :math:`\gamma` (speculative contacts with a Baumgarte correction): a contact at
 the distance ``dist > 0`` may close it within the step (:math:`\gamma = ` ``dist``), a
@@ -50,18 +52,21 @@ _NOT_CONTACT = {0: "an equality constraint", 1: "dof friction loss", 2: "tendon 
                 3: "a joint limit", 4: "a tendon limit"}
 _OBJECT = {0: "mjOBJ_EQUALITY", 1: "mjOBJ_DOF", 2: "mjOBJ_TENDON", 3: "mjOBJ_JOINT", 4: "mjOBJ_TENDON"}
 _CONTACT_FRICTIONLESS = 5
+#: The turn of the tangents where no contact has a material axis (not read).
+_NO_TURN = np.zeros((1, 2, 2))
 
 
 class Assembled:
-    """The problem's pieces: ``W`` (CSR, rows in the law frames), ``q``; per
+    """The problem's pieces: ``blocks`` (:class:`~frictionrules.multicontact.factored.TreeBlocks`,
+    rows in the law frames), ``q``; per
     contact the world frame rows ``frames`` (nc, 3, 3) of the law and ``mj_frames`` of
     MuJoCo, ``pos``, ``geom1``, ``geom2``, ``gap``; ``rows`` (3 nc,) the contacts' rows of
     MuJoCo's ``efc_*`` arrays; the count of axis fallbacks."""
 
-    __slots__ = ("W", "q", "frames", "mj_frames", "rows", "pos", "geom1", "geom2", "gap", "axis_fallback")
+    __slots__ = ("blocks", "q", "frames", "mj_frames", "rows", "pos", "geom1", "geom2", "gap", "axis_fallback")
 
-    def __init__(self, W, q, frames, mj_frames, rows, pos, geom1, geom2, gap, axis_fallback):
-        self.W, self.q, self.frames, self.mj_frames, self.rows = W, q, frames, mj_frames, rows
+    def __init__(self, blocks, q, frames, mj_frames, rows, pos, geom1, geom2, gap, axis_fallback):
+        self.blocks, self.q, self.frames, self.mj_frames, self.rows = blocks, q, frames, mj_frames, rows
         self.pos, self.geom1, self.geom2, self.gap, self.axis_fallback = pos, geom1, geom2, gap, axis_fallback
 
 
@@ -72,7 +77,9 @@ def refuse_other_rows(mujoco, model, data) -> None:
     nefc = int(data.nefc)
     if nefc == 0:
         return
-    types = np.asarray(data.efc_type[:nefc])
+    types = data.efc_type[:nefc]
+    if types.min() > _CONTACT_FRICTIONLESS:      # contacts with friction only (one pass)
+        return
     other = types < _CONTACT_FRICTIONLESS
     if other.any():
         i = int(np.flatnonzero(other)[0])
@@ -86,11 +93,11 @@ def refuse_other_rows(mujoco, model, data) -> None:
 
 
 class Trees:
-    """A model's kinematic trees as :func:`._kernels.delassus` takes them (built once):
+    """A model's kinematic trees as :func:`._kernels.contact_blocks` takes them (built once):
     ``dof_tree`` (nv,), ``dofadr`` (ntree,), the right-hand sides ``rhs`` (m, nv) of the one
     ``mj_solveM`` that gives every block of :math:`M^{-1}`."""
 
-    __slots__ = ("dof_tree", "dofadr", "dofnum", "rhs")
+    __slots__ = ("dof_tree", "dofadr", "dofnum", "rhs", "X")
 
     def __init__(self, model):
         from ._kernels import minv_rhs
@@ -103,6 +110,7 @@ class Trees:
             raise FrictionRulesError("the model's kinematic trees do not have contiguous dofs "
                                      "(dof_treeid, tree_dofadr); frictionrules.mujoco needs them")
         self.rhs = minv_rhs(self.dofadr, num, int(model.nv))
+        self.X = np.empty_like(self.rhs)     # mj_solveM's answer, written each step
 
 
 def _jacobian_csr(sp, mujoco, model, data):
@@ -110,40 +118,9 @@ def _jacobian_csr(sp, mujoco, model, data):
     model; the dense ``efc_J`` converted, its zeros dropped)."""
     nefc, nv = int(data.nefc), int(model.nv)
     if mujoco.mj_isSparse(model):
-        return (np.asarray(data.efc_J_rowadr[:nefc], dtype=np.int64),
-                np.asarray(data.efc_J_rownnz[:nefc], dtype=np.int64),
-                np.asarray(data.efc_J_colind, dtype=np.int64), np.asarray(data.efc_J))
+        return data.efc_J_rowadr, data.efc_J_rownnz, data.efc_J_colind, data.efc_J
     J = sp.csr_matrix(np.asarray(data.efc_J[:nefc * nv]).reshape(nefc, nv))
-    return (J.indptr[:-1].astype(np.int64), np.diff(J.indptr).astype(np.int64),
-            J.indices.astype(np.int64), J.data)
-
-
-def _delassus(sp, mujoco, model, data, trees: Trees, rows):
-    """:math:`W = J M^{-1} J^T` (CSR, ``rows`` x ``rows`` of MuJoCo's constraint rows) from
-    ``efc_J`` and one ``mj_solveM`` (:mod:`._kernels`): MuJoCo's ``efc_AR - diag(efc_R)``
-    without MuJoCo's dual solvers' ``mj_projectConstraint``."""
-    from ._kernels import delassus
-    X = np.empty_like(trees.rhs)
-    if X.size:
-        mujoco.mj_solveM(model, data, X, trees.rhs)
-    rowadr, rownnz, colind, values = _jacobian_csr(sp, mujoco, model, data)
-    indptr, indices, w = delassus(rows, rowadr, rownnz, colind, values, trees.dof_tree, trees.dofadr,
-                                 trees.dofnum, X)
-    n = rows.size
-    W = sp.csr_matrix((w, indices, indptr), shape=(n, n))
-    W.has_sorted_indices = True
-    return W
-
-
-def _rotate(sp, W, C):
-    """``W' = Q W Q^T`` with ``Q`` block-diagonal, per contact ``[[1, 0], [0, C_a]]`` (``C_a``
-    turns MuJoCo's tangents to the law's)."""
-    nc = C.shape[0]
-    blocks = np.zeros((nc, 3, 3))
-    blocks[:, 0, 0] = 1.0
-    blocks[:, 1:, 1:] = C
-    Q = sp.bsr_matrix((blocks, np.arange(nc), np.arange(nc + 1)), shape=(3 * nc, 3 * nc)).tocsr()
-    return (Q @ W @ Q.T).tocsr()
+    return J.indptr[:-1], np.diff(J.indptr), J.indices, J.data
 
 
 def _law_frames(frames, owner, geom_xmat, axes):
@@ -170,6 +147,8 @@ def _law_frames(frames, owner, geom_xmat, axes):
 def assemble(sp, mujoco, model, data, scene, baumgarte: float) -> Assembled:
     """The problem of the current step (the forward stages have run). Contacts are those with
     constraint rows (``efc_address >= 0``), in MuJoCo's order."""
+    from ..multicontact.factored import TreeBlocks
+    from ._kernels import contact_blocks
     refuse_other_rows(mujoco, model, data)
     ncon = int(data.ncon)
     con = data.contact
@@ -179,8 +158,11 @@ def assemble(sp, mujoco, model, data, scene, baumgarte: float) -> Assembled:
         z = np.zeros(0)
         return Assembled(None, z, np.zeros((0, 3, 3)), np.zeros((0, 3, 3)), z.astype(int),
                          np.zeros((0, 3)), z.astype(int), z.astype(int), z, 0)
-    dim = np.asarray(con.dim[:ncon])[active]
-    geom = np.asarray(con.geom[:ncon])[active]
+    whole = active.size == ncon
+    dim = np.asarray(con.dim[:ncon])
+    geom = np.asarray(con.geom[:ncon])
+    if not whole:
+        dim, geom = dim[active], geom[active]
     if (geom < 0).any():
         raise FrictionRulesError("the model has flex contacts; frictionrules.mujoco takes geom contacts only")
     if (dim != 3).any():
@@ -188,23 +170,34 @@ def assemble(sp, mujoco, model, data, scene, baumgarte: float) -> Assembled:
         raise FrictionRulesError(f"the contact of geoms {scene.names[geom[j, 0]]!r} and {scene.names[geom[j, 1]]!r} "
                                  f"has condim={int(dim[j])}; frictionrules.mujoco takes condim=3 only")
     geom1, geom2 = geom[:, 0].copy(), geom[:, 1].copy()
-    rows = (addr[active][:, None] + np.arange(3)).ravel()
-    W = _delassus(sp, mujoco, model, data, scene.trees, rows)
-    whole = rows.size == int(data.nefc) and np.array_equal(rows, np.arange(rows.size))
-    frames = np.asarray(con.frame[:ncon])[active].reshape(-1, 3, 3)
-    owner = scene.axis_owner(geom1, geom2)
-    law_frames, fallback = _law_frames(frames, owner, np.asarray(data.geom_xmat), scene.axes)
-    h = float(model.opt.timestep)
-    Jv = np.zeros(int(data.nefc))
-    mujoco.mj_mulJacVec(model, data, Jv, np.asarray(data.qvel) + h * np.asarray(data.qacc_smooth))
-    q = Jv if whole else Jv[rows]
-    if law_frames is not frames:
+    start = addr if whole else addr[active]
+    # copies: MuJoCo's contact arrays are views of its arena, rewritten by the next step (the
+    # result keeps them for the next step's warm start)
+    frames = np.array(con.frame[:ncon]).reshape(-1, 3, 3)
+    gap = np.array(con.dist[:ncon])
+    pos = np.array(con.pos[:ncon])
+    if not whole:
+        frames, gap, pos = frames[active], gap[active], pos[active]
+    if scene.any_axis:
+        owner = scene.axis_owner(geom1, geom2)
+        law_frames, fallback = _law_frames(frames, owner, np.asarray(data.geom_xmat), scene.axes)
+    else:
+        law_frames, fallback = frames, 0
+    if law_frames is frames:
+        C, turned = _NO_TURN, np.zeros(active.size, dtype=np.bool_)
+    else:
         # C[a, i, j] = t'_i . t_j: MuJoCo's tangents to the law's, within the contact plane
         C = np.einsum("kid,kjd->kij", law_frames[:, 1:], frames[:, 1:])
-        W = _rotate(sp, W, C)
-        q3 = q.reshape(-1, 3)
-        q3[:, 1:] = np.einsum("kij,kj->ki", C, q3[:, 1:])
-    gap = np.asarray(con.dist[:ncon])[active]
-    q[0::3] += np.where(gap > 0, gap, baumgarte * gap) / h
-    pos = np.asarray(con.pos[:ncon])[active]
-    return Assembled(W, q, law_frames, frames, rows, pos, geom1, geom2, gap, fallback)
+        turned = owner >= 0
+    trees = scene.trees
+    X = trees.X
+    if X.size:
+        mujoco.mj_solveM(model, data, X, trees.rhs)
+    h = float(model.opt.timestep)
+    vfree = np.asarray(data.qvel) + h * np.asarray(data.qacc_smooth)
+    rowadr, rownnz, colind, values = _jacobian_csr(sp, mujoco, model, data)
+    tree, off, Jp, Bp, D, q = contact_blocks(start, rowadr, rownnz, colind, values, trees.dof_tree, trees.dofadr,
+                                             trees.dofnum, X, C, turned, vfree, gap, float(baumgarte), h)
+    blocks = TreeBlocks(tree, off, Jp, Bp, trees.dofadr, trees.dofnum, D, int(model.nv))
+    rows = (start[:, None] + np.arange(3)).ravel()
+    return Assembled(blocks, q, law_frames, frames, rows, pos, geom1, geom2, gap, fallback)

@@ -1,18 +1,18 @@
-r"""Numba kernels of the MuJoCo step: the Delassus operator from ``efc_J`` and the warm start.
+r"""Numba kernels of the MuJoCo step: the contacts' blocks of :math:`W = J M^{-1} J^T` and the
+warm start.
 
-**W without MuJoCo's** ``efc_AR``. The mass matrix couples only the dofs of one kinematic tree
-(MuJoCo's ``dof_treeid``; a tree's dofs are contiguous, from ``tree_dofadr``), so
-:math:`M^{-1}` is block diagonal by tree and one ``mj_solveM`` of ``m`` right-hand sides
-(``m`` the largest tree's dof count), the ``k``-th holding :math:`e_{a_t + k}` for every tree
-``t`` at once, gives every block: ``X[k, c]`` is :math:`(M^{-1})_{c,\,a_t + k}` for a dof
-``c`` of tree ``t`` (:func:`minv_rhs`). Then, for the selected rows ``i`` of
-:math:`J` (CSR, MuJoCo's ``efc_J``),
-
-.. math:: W_{ij} = \sum_{c,c'} J_{ic} (M^{-1})_{cc'} J_{jc'},
-
-non-zero only for rows ``j`` touching a tree that row ``i`` touches (:func:`delassus`). This
-is what MuJoCo's ``mj_projectConstraint`` computes for its dual solvers (``efc_AR`` minus the
-regularisation ``efc_R``), without setting ``opt.solver`` to one of them.
+**W by its factors, without MuJoCo's** ``efc_AR``. The mass matrix couples only the dofs of
+one kinematic tree (MuJoCo's ``dof_treeid``; a tree's dofs are contiguous, from
+``tree_dofadr``), so :math:`M^{-1}` is block diagonal by tree and one ``mj_solveM`` of ``m``
+right-hand sides (``m`` the largest tree's dof count), the ``k``-th holding :math:`e_{a_t +
+k}` for every tree ``t`` at once, gives every block: ``X[k, c]`` is :math:`(M^{-1})_{c,\,a_t
++ k}` for a dof ``c`` of tree ``t`` (:func:`minv_rhs`). A contact's rows of ``efc_J`` touch
+at most two trees; :func:`contact_blocks` gives, per contact and tree, the dense blocks
+:math:`J_{a,t}` and :math:`B_{a,t} = J_{a,t}M_t^{-1}` that
+:class:`frictionrules.multicontact.factored.TreeBlocks` takes, with
+:math:`W_{ac} = \sum_t J_{a,t}B_{c,t}^T` (what MuJoCo's ``mj_projectConstraint`` computes
+for its dual solvers, ``efc_AR`` minus the regularisation ``efc_R``), never formed unless
+asked for.
 """
 
 from __future__ import annotations
@@ -23,136 +23,17 @@ from .._optional import require
 
 njit = require("numba", extra="kernels").njit
 
-__all__ = ["minv_rhs", "delassus", "warm_start"]
+__all__ = ["minv_rhs", "contact_blocks", "warm_start"]
 
 
 def minv_rhs(tree_dofadr: np.ndarray, tree_dofnum: np.ndarray, nv: int) -> np.ndarray:
-    """The ``(m, nv)`` right-hand sides of :func:`delassus`'s ``mj_solveM`` (built once per model)."""
+    """The ``(m, nv)`` right-hand sides of :func:`contact_blocks`'s ``mj_solveM`` (built once per model)."""
     m = int(tree_dofnum.max()) if tree_dofnum.size else 0
     rhs = np.zeros((m, nv))
     for k in range(m):
         has = tree_dofnum > k
         rhs[k, tree_dofadr[has] + k] = 1.0
     return rhs
-
-
-@njit(cache=True)
-def delassus(rows, rowadr, rownnz, colind, jdata, dof_tree, tree_dofadr, tree_dofnum, X):
-    """CSR arrays ``(indptr, indices, data)`` of :math:`W = J_S M^{-1} J_S^T` for the rows ``S =
-    rows`` of ``J`` (``rowadr``, ``rownnz``, ``colind``, ``jdata`` as MuJoCo stores ``efc_J``),
-    columns sorted. ``X`` from ``mj_solveM`` of :func:`minv_rhs`.
-
-    Tree by tree: the dense block :math:`J_T` (the rows touching tree ``T``, its dofs), then
-    :math:`W_T = J_T M_T^{-1} J_T^T`; row ``i`` of ``W`` is the sum of the rows of the (at
-    most two) :math:`W_T` of its trees."""
-    n = rows.size
-    ntree = tree_dofadr.size
-    # the trees each selected row touches (at most two for a contact), and the rows of each tree
-    tcount = np.zeros(ntree + 1, np.int64)
-    row_trees = np.full((n, 2), -1, np.int64)
-    for i in range(n):
-        r = rows[i]
-        for k in range(rowadr[r], rowadr[r] + rownnz[r]):
-            t = dof_tree[colind[k]]
-            if row_trees[i, 0] == t or row_trees[i, 1] == t:
-                continue
-            if row_trees[i, 0] < 0:
-                row_trees[i, 0] = t
-            elif row_trees[i, 1] < 0:
-                row_trees[i, 1] = t
-            else:
-                raise ValueError("a constraint row touches more than two kinematic trees")
-            tcount[t + 1] += 1
-    tptr = np.cumsum(tcount)
-    trows = np.empty(tptr[-1], np.int64)
-    loc = np.zeros((n, 2), np.int64)
-    fill = tptr[:-1].copy()
-    for i in range(n):
-        for s in range(2):
-            t = row_trees[i, s]
-            if t >= 0:
-                loc[i, s] = fill[t] - tptr[t]
-                trows[fill[t]] = i
-                fill[t] += 1
-    # W_T of every tree, row-major, at woff[T]
-    woff = np.zeros(ntree + 1, np.int64)
-    for t in range(ntree):
-        m = tptr[t + 1] - tptr[t]
-        woff[t + 1] = woff[t] + m * m
-    wt = np.zeros(woff[ntree])
-    mmax, ndmax = 0, 0
-    for t in range(ntree):
-        mmax = max(mmax, tptr[t + 1] - tptr[t])
-        ndmax = max(ndmax, tree_dofnum[t])
-    JT = np.empty((mmax, ndmax))
-    BT = np.empty((mmax, ndmax))
-    for t in range(ntree):
-        m = tptr[t + 1] - tptr[t]
-        if m == 0:
-            continue
-        a, nd = tree_dofadr[t], tree_dofnum[t]
-        JT[:m, :nd] = 0.0
-        for l in range(m):
-            r = rows[trows[tptr[t] + l]]
-            for k in range(rowadr[r], rowadr[r] + rownnz[r]):
-                c = colind[k] - a
-                if 0 <= c < nd:
-                    JT[l, c] += jdata[k]
-        # B_T = J_T M_T^-1, (M_T^-1)[c, cc] = X[cc, a + c]
-        for l in range(m):
-            for cc in range(nd):
-                acc = 0.0
-                for c in range(nd):
-                    acc += JT[l, c] * X[cc, a + c]
-                BT[l, cc] = acc
-        base = woff[t]
-        for l in range(m):
-            for l2 in range(l, m):     # W_T is symmetric (M_T^-1 is)
-                acc = 0.0
-                for c in range(nd):
-                    acc += BT[l, c] * JT[l2, c]
-                wt[base + l * m + l2] = acc
-                wt[base + l2 * m + l] = acc
-    # row i: the merge of its trees' rows of W_T (ascending), summed where both have a column
-    indptr = np.zeros(n + 1, np.int32)        # SciPy's own index type for such sizes
-    for i in range(n):
-        indptr[i + 1] = indptr[i] + _merge_rows(trows, tptr, woff, wt, row_trees[i], loc[i], None, None, 0)
-    indices = np.empty(indptr[n], np.int32)
-    data = np.empty(indptr[n])
-    for i in range(n):
-        _merge_rows(trows, tptr, woff, wt, row_trees[i], loc[i], indices, data, indptr[i])
-    return indptr, indices, data
-
-
-@njit(cache=True)
-def _merge_rows(trows, tptr, woff, wt, trees, loc, indices, data, start):
-    """The ascending union of the rows of the trees ``trees`` (-1: none) with the row ``loc`` of
-    each tree's ``W_T`` summed, written from ``start`` unless ``indices`` is None; its length."""
-    t1, t2 = trees[0], trees[1]
-    p, pe, q, qe, w1, w2 = 0, 0, 0, 0, 0, 0
-    if t1 >= 0:
-        p, pe = tptr[t1], tptr[t1 + 1]
-        w1 = woff[t1] + loc[0] * (pe - p) - p
-    if t2 >= 0:
-        q, qe = tptr[t2], tptr[t2 + 1]
-        w2 = woff[t2] + loc[1] * (qe - q) - q
-    m = 0
-    while p < pe or q < qe:
-        if q >= qe or (p < pe and trows[p] < trows[q]):
-            j, v = trows[p], wt[w1 + p]
-            p += 1
-        elif p >= pe or trows[q] < trows[p]:
-            j, v = trows[q], wt[w2 + q]
-            q += 1
-        else:
-            j, v = trows[p], wt[w1 + p] + wt[w2 + q]
-            p += 1
-            q += 1
-        if indices is not None:
-            indices[start + m] = j
-            data[start + m] = v
-        m += 1
-    return m
 
 
 @njit(cache=True)
@@ -188,3 +69,102 @@ def warm_start(key_new, pos_new, frames_new, key_old, pos_old, force_old, h, dis
         if r0[a, 0] < 0.0:
             r0[a, 0] = 0.0
     return count
+
+
+@njit(cache=True)
+def contact_blocks(addr, rowadr, rownnz, colind, jdata, dof_tree, tree_dofadr, tree_dofnum, X, C, turned,
+                   vfree, gap, baumgarte, h):
+    r"""The blocks of :class:`frictionrules.multicontact.factored.TreeBlocks` and ``q`` of the
+    contacts whose rows N, T1, T2 start at ``addr`` (nc,) in ``efc_J`` (CSR as MuJoCo stores
+    it). Per contact and tree: :math:`J_{a,t}` (the rows T1, T2 turned by ``C[a]`` (2 x 2)
+    where ``turned[a]``: MuJoCo's tangents to the law's), :math:`B_{a,t} = J_{a,t} M_t^{-1}`
+    (``(M_t^{-1})_{c,c'} = X[c' - a_t, c]``, ``X`` from ``mj_solveM`` of :func:`minv_rhs`),
+    :math:`D_a = \sum_t J_{a,t}B_{a,t}^T`, and :math:`q_a = J_a v_{free} + \gamma_a/h\,e_N`
+    (``gamma = gap`` where ``gap > 0``, else ``baumgarte * gap``). Returns ``(tree, offset,
+    J, B, D, q)``."""
+    nc = addr.size
+    tree = np.full((nc, 2), -1, np.int64)
+    for a in range(nc):
+        for l in range(3):
+            r = addr[a] + l
+            for k in range(rowadr[r], rowadr[r] + rownnz[r]):
+                t = dof_tree[colind[k]]
+                if tree[a, 0] == t or tree[a, 1] == t:
+                    continue
+                if tree[a, 0] < 0:
+                    tree[a, 0] = t
+                elif tree[a, 1] < 0:
+                    tree[a, 1] = t
+                else:
+                    raise ValueError("a contact touches more than two kinematic trees")
+    off = np.zeros((nc, 2), np.int64)
+    size = 0
+    for a in range(nc):
+        for s in range(2):
+            t = tree[a, s]
+            if t >= 0:
+                off[a, s] = size
+                size += 3 * tree_dofnum[t]
+    # the non-zeros of each tree's block of M^-1, row by row (a free body's is diagonal where
+    # its principal axes are the body's: 6 of 36), so that B skips the zeros
+    ntree = tree_dofadr.size
+    nzptr = np.zeros(ntree + 1, np.int64)
+    for t in range(ntree):
+        c0, n = tree_dofadr[t], tree_dofnum[t]
+        m = 0
+        for j in range(n):
+            for k in range(n):
+                if X[j, c0 + k] != 0.0:
+                    m += 1
+        nzptr[t + 1] = nzptr[t] + m
+    nzj = np.empty(nzptr[ntree], np.int64)
+    nzk = np.empty(nzptr[ntree], np.int64)
+    nzv = np.empty(nzptr[ntree])
+    for t in range(ntree):
+        c0, n = tree_dofadr[t], tree_dofnum[t]
+        e = nzptr[t]
+        for j in range(n):
+            for k in range(n):
+                if X[j, c0 + k] != 0.0:
+                    nzj[e], nzk[e], nzv[e] = j, k, X[j, c0 + k]
+                    e += 1
+    Jp = np.zeros(size)
+    Bp = np.zeros(size)
+    D = np.zeros((nc, 3, 3))
+    q = np.empty(3 * nc)
+    for a in range(nc):
+        for l in range(3):
+            r = addr[a] + l
+            for k in range(rowadr[r], rowadr[r] + rownnz[r]):
+                c = colind[k]
+                t = dof_tree[c]
+                s = 0 if tree[a, 0] == t else 1
+                Jp[off[a, s] + l * tree_dofnum[t] + c - tree_dofadr[t]] += jdata[k]
+        u = np.zeros(3)
+        for s in range(2):
+            t = tree[a, s]
+            if t < 0:
+                continue
+            p, c0, n = off[a, s], tree_dofadr[t], tree_dofnum[t]
+            if turned[a]:
+                for k in range(n):
+                    x1, x2 = Jp[p + n + k], Jp[p + 2 * n + k]
+                    Jp[p + n + k] = C[a, 0, 0] * x1 + C[a, 0, 1] * x2
+                    Jp[p + 2 * n + k] = C[a, 1, 0] * x1 + C[a, 1, 1] * x2
+            for l in range(3):
+                row = p + l * n
+                for e in range(nzptr[t], nzptr[t + 1]):      # B[l, j] = sum_k J[l, k] X[j, c0 + k]
+                    Bp[row + nzj[e]] += Jp[row + nzk[e]] * nzv[e]
+                for k in range(n):
+                    u[l] += Jp[row + k] * vfree[c0 + k]
+            for l in range(3):
+                for l2 in range(3):
+                    acc = 0.0
+                    for k in range(n):
+                        acc += Jp[p + l * n + k] * Bp[p + l2 * n + k]
+                    D[a, l, l2] += acc
+        g = gap[a] if gap[a] > 0.0 else baumgarte * gap[a]
+        q[3 * a] = u[0] + g / h
+        q[3 * a + 1] = u[1]
+        q[3 * a + 2] = u[2]
+    return tree, off, Jp, Bp, D, q

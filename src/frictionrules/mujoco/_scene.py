@@ -92,12 +92,13 @@ class Scene:
                                          "in the geom's frame")
             self.axes[g] = v / np.linalg.norm(v)
             self.has_axis[g] = True
+        self.any_axis = bool(self.has_axis.any())
         self.names = [mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, i) or f"geom {i}"
                       for i in range(self.ngeom)]
         self._cache: dict[int, object] = {}
         self._last_keys, self._last_laws = None, ()
-        #: the last step's problem and the laws tuple it was built with (renewed while the
-        #: contacts' laws are the same)
+        #: the laws tuple of the last step and its ContactLaws (kept while the contacts' laws
+        #: are the same)
         self.problem = None
         from ._assemble import Trees
         self.trees = Trees(model)
@@ -123,7 +124,7 @@ class Scene:
 
     def laws_of(self, geom1: np.ndarray, geom2: np.ndarray) -> tuple:
         """The law of each contact ``(geom1[i], geom2[i])``; the same tuple object as the last
-        call's when the contacts' pairs are the same (a step's problem is then renewed)."""
+        call's when the contacts' pairs are the same (the laws' reduction is then kept)."""
         keys = np.minimum(geom1, geom2) * self.ngeom + np.maximum(geom1, geom2)
         if self._last_keys is not None and np.array_equal(keys, self._last_keys):
             return self._last_laws

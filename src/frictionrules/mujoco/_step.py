@@ -9,8 +9,10 @@ The stages of a step (MuJoCo's own functions, the contact solve replaced):
    dual solvers' ``efc_AR``, which the step does not need); both are restored (a pyramidal
    model steps the same way);
 2. the problem :math:`u = W r + q` of the contacts in the laws' frames (:mod:`._assemble`);
-3. :func:`frictionrules.solve` from the previous step's impulses (warm start);
-4. :math:`\ddot q = \ddot q_{smooth} + M^{-1}J^T r/h` (``mj_solveM``) and MuJoCo's integrator
+3. the solve from the previous step's impulses (warm start): non-smooth Gauss–Seidel on the
+   factored operator (:func:`frictionrules.multicontact.factored.solve_factored`, W not
+   formed), :func:`frictionrules.solve` on W where that does not apply or converge (:func:`_solve`);
+4. :math:`\ddot q = \ddot q_{smooth} + M^{-1}J^T r/h` (from the blocks) and MuJoCo's integrator
    (``mj_Euler`` for ``opt.integrator="Euler"``, ``mj_implicit`` for ``"implicit"`` and
    ``"implicitfast"``; ``"RK4"`` is refused: it would call MuJoCo's solver at its stages).
 
@@ -21,12 +23,15 @@ values (``efc_force`` in the elliptic layout, (N, T1, T2) of MuJoCo's contact fr
 
 from __future__ import annotations
 
+import dataclasses
+import functools
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from .._optional import require
 from ..errors import FrictionRulesError, check_scalar
+from ..multicontact import METHODS, ContactLaws, FrictionContactProblem, solve, solve_factored
 from ._assemble import assemble
 from ._scene import Scene
 
@@ -126,15 +131,21 @@ _FULL = ("mjWARN_CONTACTFULL", "mjWARN_CNSTRFULL")
 _INTEGRATORS = {0: "mj_Euler", 2: "mj_implicit", 3: "mj_implicit"}
 
 
+@functools.cache
+def _full_warnings(mujoco) -> tuple:
+    """The indices of :data:`_FULL` in ``data.warning``."""
+    return tuple(int(getattr(mujoco.mjtWarning, name)) for name in _FULL)
+
+
 def _forward(mujoco, model, data):
     if int(model.opt.integrator) not in _INTEGRATORS:
         raise FrictionRulesError("model.opt.integrator = RK4 is refused (its stages call MuJoCo's "
                                  "solver); use Euler, implicit or implicitfast")
     opt = model.opt
-    full = [int(getattr(mujoco.mjtWarning, name)) for name in _FULL]
+    full = _full_warnings(mujoco)
     before = [int(data.warning[i].number) for i in full]
     solver, cone = int(opt.solver), int(opt.cone)
-    opt.solver = mujoco.mjtSolver.mjSOL_NEWTON  # no efc_AR (a dual solver's): W is built from efc_J
+    opt.solver = mujoco.mjtSolver.mjSOL_NEWTON  # no efc_AR (a dual solver's): W is kept by its factors from efc_J
     opt.cone = mujoco.mjtCone.mjCONE_ELLIPTIC   # rows N, T1, T2 of each contact's frame
     try:
         mujoco.mj_fwdPosition(model, data)
@@ -149,10 +160,51 @@ def _forward(mujoco, model, data):
                                      "give the model more memory (<size memory=\"64M\"/>)")
 
 
+#: Sweeps of the factored NSGS (``method`` "auto") before the step builds W and hands the
+#: problem to :func:`frictionrules.solve` (the cone path's "auto" probes as many NSGS sweeps).
+FACTORED_SWEEPS = 50
+
+
+def _contact_laws(scene: Scene, geom1, geom2):
+    """The contacts' :class:`~frictionrules.multicontact.factored.ContactLaws`, reduced again
+    only when the contacts' laws change (the tuple :meth:`Scene.laws_of` returns)."""
+    laws = scene.laws_of(geom1, geom2)
+    last = scene.problem
+    if last is not None and last[0] is laws:
+        return last[1]
+    reduced = ContactLaws(laws)
+    scene.problem = (laws, reduced)
+    return reduced
+
+
+def _solve(A, claws, r0, p: _Params):
+    """The step's solve: the factored sweeps (:func:`~frictionrules.multicontact.factored.solve_factored`,
+    W not formed) for ``method`` "nsgs" and "auto"; where "auto" has not converged after
+    :data:`FACTORED_SWEEPS` sweeps, and for the other methods and elliptic cones with turned
+    frames, :func:`frictionrules.solve` on W (:meth:`TreeBlocks.delassus`), from the sweeps'
+    impulses."""
+    limit = METHODS[p.method].max_iter if p.max_iter is None else int(p.max_iter)
+    first = None
+    if p.method in ("auto", "nsgs") and (claws.path == "law" or claws.frames is None):
+        sweeps = limit if p.method == "nsgs" else min(limit, FACTORED_SWEEPS)
+        first = solve_factored(claws, A.blocks, A.q, r0, tol=p.tol, max_iter=sweeps)
+        if first.converged or first.reason == "unbounded" or first.iterations >= limit:
+            return first
+        r0 = first.r
+    problem = FrictionContactProblem(A.blocks.delassus(), A.q, claws.laws)
+    sol = solve(problem, p.method, p.tol, limit - (0 if first is None else first.iterations), r0=r0)
+    if first is None:
+        return sol
+    return dataclasses.replace(
+        sol, iterations=first.iterations + sol.iterations, method=f"nsgs+{sol.method}",
+        history=np.concatenate((first.history, sol.history)),
+        history_iterations=np.concatenate((first.history_iterations, first.iterations + sol.history_iterations)),
+        seconds=first.seconds + sol.seconds, cpu_seconds=first.cpu_seconds + sol.cpu_seconds)
+
+
 def _advance(mujoco, model, data, scene: Scene, previous, p: _Params) -> StepResult:
     import scipy.sparse as sp
 
-    from ..multicontact import FrictionContactProblem, solve
     _forward(mujoco, model, data)
     h = float(model.opt.timestep)
     A = assemble(sp, mujoco, model, data, scene, p.baumgarte)
@@ -163,28 +215,20 @@ def _advance(mujoco, model, data, scene: Scene, previous, p: _Params) -> StepRes
         data.qacc[:] = data.qacc_smooth
         data.qfrc_constraint[:] = 0.0
     else:
-        laws = scene.laws_of(A.geom1, A.geom2)
-        last = scene.problem
-        if last is not None and last[0] is laws:
-            problem = last[1].renewed(A.W, A.q)     # the laws' reduction kept
-        else:
-            problem = FrictionContactProblem(A.W, A.q, laws)
-        scene.problem = (laws, problem)
+        claws = _contact_laws(scene, A.geom1, A.geom2)
         r0, warm = _warm_start(previous, A, h, scene.ngeom, p.warm_distance)
-        sol = solve(problem, p.method, p.tol, p.max_iter, r0=r0)
+        sol = _solve(A, claws, r0, p)
         r = sol.r.reshape(nc, 3)
     force = np.einsum("ki,kij->kj", r, A.frames) / h
     if nc:
         # the impulses in MuJoCo's frames are its efc_force times h; J^T of them by MuJoCo
         efc = np.zeros(int(data.nefc))
-        efc[A.rows] = np.einsum("kij,kj->ki", A.mj_frames, force).ravel()
+        # the law frames are MuJoCo's where no geom has axes: r / h is then efc_force already
+        efc[A.rows] = (r / h if A.frames is A.mj_frames else np.einsum("kij,kj->ki", A.mj_frames, force)).ravel()
         data.efc_force[:] = efc
-        impulse = np.zeros(int(model.nv))
-        mujoco.mj_mulJacTVec(model, data, impulse, efc)
-        x = impulse[None, :].copy()
-        mujoco.mj_solveM(model, data, x, impulse[None, :])
-        data.qacc[:] = np.asarray(data.qacc_smooth) + x[0]
-        data.qfrc_constraint[:] = impulse
+        mujoco.mj_mulJacTVec(model, data, data.qfrc_constraint, efc)
+        # qacc = qacc_smooth + M^-1 J^T r / h, M^-1 J^T r from the blocks
+        np.add(data.qacc_smooth, A.blocks.impulse_velocity(sol.r) / h, out=data.qacc)
     getattr(mujoco, _INTEGRATORS[int(model.opt.integrator)])(model, data)
     return StepResult(time=float(data.time), r=r, frames=A.frames, force=force, pos=A.pos, geom1=A.geom1,
                       geom2=A.geom2, gap=A.gap, solution=sol, warm_started=warm, axis_fallback=A.axis_fallback)
