@@ -28,10 +28,10 @@ njit = require("numba", extra="kernels").njit
 
 
 @njit(inline="always")
-def _rhs(tree, off, Jp, dofadr, dofnum, v, q, D, r, a, b):
-    """``b = J_a v + q_a - D_a r_a`` into ``b`` (3,)."""
+def _jv(tree, off, Jp, dofadr, dofnum, v, q, a):
+    """``J_a v + q_a``, contact ``a``'s velocity, as three numbers."""
     i = 3 * a
-    b0, b1, b2 = q[i], q[i + 1], q[i + 2]
+    u0, u1, u2 = q[i], q[i + 1], q[i + 2]
     for s in range(2):
         t = tree[a, s]
         if t < 0:
@@ -39,9 +39,17 @@ def _rhs(tree, off, Jp, dofadr, dofnum, v, q, D, r, a, b):
         p, c0, n = off[a, s], dofadr[t], dofnum[t]
         for k in range(n):
             x = v[c0 + k]
-            b0 += Jp[p + k] * x
-            b1 += Jp[p + n + k] * x
-            b2 += Jp[p + 2 * n + k] * x
+            u0 += Jp[p + k] * x
+            u1 += Jp[p + n + k] * x
+            u2 += Jp[p + 2 * n + k] * x
+    return u0, u1, u2
+
+
+@njit(inline="always")
+def _rhs(tree, off, Jp, dofadr, dofnum, v, q, D, r, a, b):
+    """``b = J_a v + q_a - D_a r_a`` into ``b`` (3,)."""
+    i = 3 * a
+    b0, b1, b2 = _jv(tree, off, Jp, dofadr, dofnum, v, q, a)
     b[0] = b0 - (D[a, 0, 0] * r[i] + D[a, 0, 1] * r[i + 1] + D[a, 0, 2] * r[i + 2])
     b[1] = b1 - (D[a, 1, 0] * r[i] + D[a, 1, 1] * r[i + 1] + D[a, 1, 2] * r[i + 2])
     b[2] = b2 - (D[a, 2, 0] * r[i] + D[a, 2, 1] * r[i + 1] + D[a, 2, 2] * r[i + 2])
@@ -73,18 +81,7 @@ def contact_velocity(tree, off, Jp, dofadr, dofnum, v, q, u):
     """``u = J v + q`` into ``u`` (3 nc,)."""
     for a in range(tree.shape[0]):
         i = 3 * a
-        u0, u1, u2 = q[i], q[i + 1], q[i + 2]
-        for s in range(2):
-            t = tree[a, s]
-            if t < 0:
-                continue
-            p, c0, n = off[a, s], dofadr[t], dofnum[t]
-            for k in range(n):
-                x = v[c0 + k]
-                u0 += Jp[p + k] * x
-                u1 += Jp[p + n + k] * x
-                u2 += Jp[p + 2 * n + k] * x
-        u[i], u[i + 1], u[i + 2] = u0, u1, u2
+        u[i], u[i + 1], u[i + 2] = _jv(tree, off, Jp, dofadr, dofnum, v, q, a)
 
 
 @njit(cache=True)
