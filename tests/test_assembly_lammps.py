@@ -105,6 +105,13 @@ def test_result_fields_shapes_and_signs(run):
     assert r.stress_ratio[-1] > r.stress_ratio[0]
     # Z = 2 N_c/N of a jammed frictionless packing: about 6 (isostatic), a few rattlers less
     assert 5.0 < r.coordination[0] < 7.0
+    # Coulomb (no normal slip): the pair style's force-carrying contacts (i_fr_carrying) are
+    # the overlapping pairs, those rebuilt from the dumped centres. The dump follows fix
+    # deform's end-of-step remap (centres moved by about ε̇ dt of the box after the force
+    # pass), which may open or close a pair within that of touching: one pair at most here.
+    rebuilt = np.array([2 * np.count_nonzero(c.force[:, 2] > 0) / a.size for c in r.contacts])
+    assert np.all(np.abs(r.coordination - rebuilt) <= 2.0 / a.size + 1e-12)
+    assert np.count_nonzero(r.coordination != rebuilt) <= 2
     assert "engine lammps" in r.message and "frictionrules/coulomb (exported)" in r.message
     assert r.message.startswith("completed")
     # the exported pair style's sliding flag: none at the consolidated state (virgin

@@ -65,6 +65,32 @@ def test_dilatant_contact_pushes_while_gap_below_dp_n(built, tmp_path):
     assert statuses[-1] == -1 and gaps[-1] > SKIN    # lost beyond it
 
 
+def test_carrying_count_includes_dilatant_contact_pushing_with_a_gap(built, tmp_path):
+    """``fix property/atom i_fr_carrying``: the pair style counts each atom's force-carrying
+    contacts (N > 0 of (4.2), N = −kn (gap − dp_n)); ``compute contact/atom`` counts
+    overlapping pairs. Along the dilating path both count the contact while it overlaps;
+    while 0 < gap < dp_n only the carrying count has it (the contact pushes); once open
+    (N = 0) and beyond the skin, neither."""
+    install, folders = built
+    steps = dilating_path(N_GENERIC)
+    job = _with_skin(_job(folders["dilatant"], steps), "dilatant", SKIN)
+    job["setup"][2:2] = ["newton off"]
+    job["setup"] += ["fix carrying all property/atom i_fr_carrying",
+                     "compute overlapping all contact/atom", "variable c atom i_fr_carrying",
+                     "compute counts all reduce sum v_c c_overlapping",
+                     "variable carried equal c_counts[1]", "variable overlapped equal c_counts[2]",
+                     "thermo_style custom step c_counts[1] c_counts[2]", "thermo 1"]
+    job["equal"] = ["carried", "overlapped"]
+    out = drive(install, tmp_path, job)
+    gaps = np.array([np.linalg.norm(s[0]) - 2 * R for s in steps])
+    normal = np.nan_to_num(np.array([row[0][0] for row in out["local"]]))
+    carried, overlapped = out["equal"][:, 0], out["equal"][:, 1]
+    # one contact: counted by both atoms (2) or by neither (0)
+    np.testing.assert_array_equal(carried, np.where(normal > 0.0, 2.0, 0.0))
+    np.testing.assert_array_equal(overlapped, np.where(gaps < 0.0, 2.0, 0.0))
+    assert np.count_nonzero((gaps > 0.0) & (carried == 2.0)) >= 3
+
+
 def test_dilatant_contact_without_skin_is_lost_at_zero_gap(built, tmp_path):
     """The default (skin 0, LAMMPS's granular convention): the contact and its history go
     as soon as the gap is positive, whatever dp_n."""

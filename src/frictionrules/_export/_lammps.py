@@ -264,6 +264,16 @@ def lammps_readme(target, spec, written) -> str:
         "compute s all reduce sum c_c[1] c_c[3] c_c[4] inputs local",
         "thermo_style custom step c_s[1] c_s[2] c_s[3]   # ΣN, sliding contacts, dissipation",
         "```", "",
+        "## Output: force-carrying contacts per atom", "",
+        "Where the input script defines the integer per-atom property `fr_carrying`, the pair "
+        "style fills it at each force pass with the atom's force-carrying contacts (N > 0: "
+        "`compute contact/atom` counts overlapping pairs, which leaves out a contact that "
+        "opened within the skin and still pushes after a plastic opening). It needs "
+        "`newton off`.", "", "```text",
+        "fix carrying all property/atom i_fr_carrying",
+        "variable z atom i_fr_carrying",
+        "compute z all reduce sum v_z          # twice the force-carrying contacts",
+        "```", "",
         f"## Law parameters (`pair_coeff`, {len(written.props)} values)", "",
         *_table(written.props_entries, written.props), "",
         "## Restart", "",

@@ -150,6 +150,7 @@ class FR_CLASS : public Pair {
   int stride;                // ntypes + 1 when allocated
   void allocate();
   int nhistory() const;    // values per contact: FR_NHISTORY_PROJECT or _ROTATE
+  int *carrying_counts();  // the per-atom property fr_carrying, zeroed; or nullptr
   std::string history_id() const { return "NEIGH_HISTORY_FR" + std::to_string(instance_me); }
   double *params(int itype, int jtype) const
   {

@@ -364,6 +364,7 @@ void FR_CLASS::compute(int eflag, int vflag)
   const double *hr = domain->h_rate, *hi = domain->h_inv;
   const double L[6] = {hr[0] * hi[0], hr[1] * hi[1], hr[2] * hi[2], hr[1] * hi[3] + hr[3] * hi[2],
                        hr[0] * hi[4] + hr[5] * hi[3] + hr[4] * hi[2], hr[0] * hi[5] + hr[5] * hi[1]};
+  int *carrying = carrying_counts();    // per-atom force-carrying contacts, if asked for
 
   for (int ii = 0; ii < inum; ii++) {
     const int i = ilist[ii];
@@ -483,8 +484,31 @@ void FR_CLASS::compute(int eflag, int vflag)
       }
       if (evflag)
         ev_tally_xyz(i, j, nlocal, newton_pair, 0.0, 0.0, fi[0], fi[1], fi[2], -d0, -d1, -d2);
+      if (carrying && g[0] * n[0] + g[1] * n[1] + g[2] * n[2] < 0.0) {    // N > 0
+        carrying[i]++;
+        if (j < nlocal) carrying[j]++;
+      }
     }
   }
+}
+
+/* The per-atom integer property fr_carrying (fix property/atom i_fr_carrying), zeroed here and
+   filled by compute() with each local atom's force-carrying contacts (N > 0, open contacts of
+   the skin pushing included); none where the input script does not define it. newton off: a
+   pair across two ranks is computed on both, each counting its own atom. */
+int *FR_CLASS::carrying_counts()
+{
+  int flag = -1, cols = -1;
+  const int index = atom->find_custom("fr_carrying", flag, cols);
+  if (index < 0) return nullptr;
+  if (flag != 0 || cols != 0)
+    error->all(FLERR, "pair_style " FR_STYLE ": the property fr_carrying must be one integer "
+                      "per atom (fix property/atom i_fr_carrying)");
+  if (force->newton_pair)
+    error->all(FLERR, "pair_style " FR_STYLE ": i_fr_carrying counts contacts with newton off");
+  int *counts = atom->ivector[index];
+  for (int i = 0; i < atom->nlocal; i++) counts[i] = 0;
+  return counts;
 }
 
 /* The history is kept in the canonical orientation: the other atom of the pair gets a copy. */

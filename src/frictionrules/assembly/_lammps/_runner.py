@@ -279,8 +279,9 @@ def read_lammps_triaxial(assembly, folder, *, ended: str | None = None,
     Rows are the records (row 0: the consolidated sample). Stress: LAMMPS's virial pressure
     tensor (no kinetic part; compression positive as ours); strain: the logarithmic strain of
     the box since the shear started, ``-ln(L/L₀)`` per axis; the peak by our running-mean rule;
-    ``coordination`` ``2 N_c/N`` of the overlapping pairs (``compute contact/atom``), without
-    rattlers alike. The contacts of a record are rebuilt from its centres (:func:`build`:
+    ``coordination`` ``2 N_c/N``, without rattlers alike, of the force-carrying contacts (N > 0)
+    the exported pair style counts (of the overlapping pairs with LAMMPS's own styles, whose
+    open contacts carry no force); the sliding fraction over the same contacts. The contacts of a record are rebuilt from its centres (:func:`build`:
     normal forces from the overlaps, tangential forces not read back); samples above
     ``SNAPSHOT_GRAINS`` grains keep centres and contacts at the last record only (the others
     hold an empty snapshot). ``sliding_fraction`` is NaN where the pair style offers no
@@ -377,10 +378,7 @@ def _message(folder: Path, opts: dict, ended: str, ranks) -> str:
              "box servo fix deform/pressure (proportional, gain "
              f"{opts['gain']:.3g}/time on the relative stress error, rate bounded as ours)",
              "Cundall damping on the half-step velocity"]
-    if opts["law_outputs"]:    # the exported style: our skin and the affine term L l
-        parts.append("Z and the sliding fraction count overlapping pairs (a dilatant contact "
-                     "pushing with a positive gap is left out)")
-    else:
+    if not opts["law_outputs"]:
         parts += ["affine part of the relative velocity not in the tangential history "
                   "(remap x)", "a contact's history erased when it opens (ours: kept within "
                   "the skin)", "no sliding fraction or dissipation from this pair style"]

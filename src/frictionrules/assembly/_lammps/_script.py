@@ -25,7 +25,11 @@ its diameter, the density and its centre wrapped into the box.
   (:func:`servo_gain`), the rate bounded by ``SERVO_RATE ε̇``;
 * a record every ``record_every`` of axial strain (``fix print``): the box, the virial stress
   (``compute pressure NULL virial``: no kinetic part, compression positive as ours), the
-  coordination (``compute contact/atom``), the unbalanced-force ratio (the forces before the
+  coordination: the force-carrying contacts (N > 0) the exported pair style counts per atom
+  (``fix property/atom i_fr_carrying``), as ours, open contacts of the skin pushing after a
+  plastic opening included; with LAMMPS's own styles the overlapping pairs (``compute
+  contact/atom``, the same for them: an open contact carries no force); the unbalanced-force
+  ratio (the forces before the
   damping, ``fix store/force``), the kinetic energy; with a pair style that offers them
   (``compute pair/local p3 p4``), the sliding fraction and the laws' dissipation.
 """
@@ -147,9 +151,11 @@ def input_script(*, pair_frictionless: list[str], pair_law: list[str], law_outpu
         "fix integrate all nve/sphere",
         "compute stress all pressure NULL virial",
         "compute contacts all contact/atom",
-        "variable none atom c_contacts==0",
-        "variable one atom c_contacts==1",
-        "compute counts all reduce sum c_contacts v_none v_one",
+        *(["fix carrying all property/atom i_fr_carrying"] if law_outputs else []),
+        f"variable contacts atom {'i_fr_carrying' if law_outputs and not frictionless else 'c_contacts'}",
+        "variable none atom v_contacts==0",
+        "variable one atom v_contacts==1",
+        "compute counts all reduce sum v_contacts v_none v_one",
         f"compute normal all pair/local {'force' if frictionless else normal_law}",
         "compute forces all reduce sum c_normal inputs local",
         "variable force atom sqrt(f_store[1]^2+f_store[2]^2+f_store[3]^2)",
@@ -169,6 +175,8 @@ def input_script(*, pair_frictionless: list[str], pair_law: list[str], law_outpu
                          "consolidation (frictionless)")
         lines += ["# the laws take over: virgin tangential histories", *pair_law,
                   "uncompute normal", f"compute normal all pair/local {normal_law}"]
+        if law_outputs:    # the exported style counts force-carrying contacts per atom
+            lines.append("variable contacts atom i_fr_carrying")
     else:
         lines += _settle(pressure, gain, CONSOLIDATION_RATE * rate, UNBALANCED_TOL,
                          "consolidation")
