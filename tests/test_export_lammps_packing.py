@@ -137,6 +137,34 @@ def test_history_across_two_ranks_hardening(setup, tmp_path, newton):
     assert np.abs(one[:, 4:10] - two[:, 4:10]).max() < 1e-7 * vscale
 
 
+@pytest.mark.parametrize("newton,ranks", [("off", 1), ("on", 1), ("on", 2)])
+def test_carrying_counts_are_the_overlaps_for_coulomb(setup, tmp_path, newton, ranks):
+    """``fix property/atom i_fr_carrying``: each atom's force-carrying contacts. For Coulomb
+    (no normal slip) N = −kn·gap > 0 exactly where the spheres overlap, so per atom they are
+    ``compute contact/atom``'s count, after 300 steps of the packing in shear motion (contacts
+    formed and lost); on 2 ranks with newton on the ghosts' counts come back by the pair
+    style's reverse communication."""
+    install, data, pair = setup
+    grid = "processors 2 1 1\n" if ranks == 2 else ""
+    script = (_head(data, newton, grid, triclinic=False) + pair["coulomb"]
+              + """fix carrying all property/atom i_fr_carrying
+comm_modify vel yes
+neighbor 0.3 bin
+neigh_modify delay 0 every 1 check yes
+timestep 1e-3
+fix 1 all nve/sphere
+velocity all ramp vx -0.2 0.2 y 0.0 13.9 sum no
+compute ca all contact/atom
+run 300
+write_dump all custom counts.dump id i_fr_carrying c_ca
+""")
+    (tmp_path / "c").mkdir()
+    run_lmp(install, tmp_path / "c", script, ranks)
+    rows = read_dump(tmp_path / "c" / "counts.dump")
+    assert rows.shape == (400, 3) and rows[:, 1].sum() > 1000
+    np.testing.assert_array_equal(rows[:, 1], rows[:, 2])
+
+
 def test_restart_bit_for_bit(setup, tmp_path):
     """The packing set in shear motion (``velocity all ramp vx -0.2 0.2 y``, no box deformation;
     the hardening law), 500 steps, ``write_restart``, then in a new LAMMPS ``read_restart``

@@ -268,8 +268,9 @@ def lammps_readme(target, spec, written) -> str:
         "Where the input script defines the integer per-atom property `fr_carrying`, the pair "
         "style fills it at each force pass with the atom's force-carrying contacts (N > 0: "
         "`compute contact/atom` counts overlapping pairs, which leaves out a contact that "
-        "opened within the skin and still pushes after a plastic opening). It needs "
-        "`newton off`.", "", "```text",
+        "opened within the skin and still pushes after a plastic opening). With `newton on` "
+        "the counts of ghost atoms go back to their owners by one reverse communication a "
+        "step (only where the property is defined).", "", "```text",
         "fix carrying all property/atom i_fr_carrying",
         "variable z atom i_fr_carrying",
         "compute z all reduce sum v_z          # twice the force-carrying contacts",

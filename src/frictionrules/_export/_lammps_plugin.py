@@ -138,6 +138,8 @@ class FR_CLASS : public Pair {
   double single(int, int, int, int, double, double, double, double &) override;
   void transfer_history(double *, double *, int, int) override;
   double memory_usage() override;
+  int pack_reverse_comm(int, int, double *) override;
+  void unpack_reverse_comm(int, int *, double *) override;
 
  protected:
   class Fix *fix_history;    // the fix NEIGH_HISTORY holding every contact's history

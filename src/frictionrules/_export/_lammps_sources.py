@@ -171,6 +171,7 @@ FR_CLASS::FR_CLASS(LAMMPS *lmp) :
   svector = new double[4 + FR_NQ];
   nondefault_history_transfer = 1;
   comm_forward = 0;
+  comm_reverse = 1;    // the carrying counts of ghost atoms (newton on)
   axis[0] = 1.0;
   axis[1] = axis[2] = 0.0;
   // a placeholder, replaced by the fix NEIGH_HISTORY in init_style(): the history fix must come
@@ -486,16 +487,18 @@ void FR_CLASS::compute(int eflag, int vflag)
         ev_tally_xyz(i, j, nlocal, newton_pair, 0.0, 0.0, fi[0], fi[1], fi[2], -d0, -d1, -d2);
       if (carrying && g[0] * n[0] + g[1] * n[1] + g[2] * n[2] < 0.0) {    // N > 0
         carrying[i]++;
-        if (j < nlocal) carrying[j]++;
+        if (newton_pair || j < nlocal) carrying[j]++;
       }
     }
   }
+  if (carrying && newton_pair) comm->reverse_comm(this);    // ghosts' counts to their owners
 }
 
 /* The per-atom integer property fr_carrying (fix property/atom i_fr_carrying), zeroed here and
    filled by compute() with each local atom's force-carrying contacts (N > 0, open contacts of
    the skin pushing included); none where the input script does not define it. newton off: a
-   pair across two ranks is computed on both, each counting its own atom. */
+   pair across two ranks is computed on both, each counting its own atom; newton on: once, the
+   ghost's count sent back to its owner (reverse communication). */
 int *FR_CLASS::carrying_counts()
 {
   int flag = -1, cols = -1;
@@ -504,11 +507,25 @@ int *FR_CLASS::carrying_counts()
   if (flag != 0 || cols != 0)
     error->all(FLERR, "pair_style " FR_STYLE ": the property fr_carrying must be one integer "
                       "per atom (fix property/atom i_fr_carrying)");
-  if (force->newton_pair)
-    error->all(FLERR, "pair_style " FR_STYLE ": i_fr_carrying counts contacts with newton off");
   int *counts = atom->ivector[index];
-  for (int i = 0; i < atom->nlocal; i++) counts[i] = 0;
+  const int n = atom->nlocal + (force->newton_pair ? atom->nghost : 0);
+  for (int i = 0; i < n; i++) counts[i] = 0;
   return counts;
+}
+
+int FR_CLASS::pack_reverse_comm(int n, int first, double *buf)
+{
+  int flag = -1, cols = -1;
+  const int *counts = atom->ivector[atom->find_custom("fr_carrying", flag, cols)];
+  for (int i = 0; i < n; i++) buf[i] = counts[first + i];
+  return n;
+}
+
+void FR_CLASS::unpack_reverse_comm(int n, int *list, double *buf)
+{
+  int flag = -1, cols = -1;
+  int *counts = atom->ivector[atom->find_custom("fr_carrying", flag, cols)];
+  for (int i = 0; i < n; i++) counts[list[i]] += static_cast<int>(buf[i]);
 }
 
 /* The history is kept in the canonical orientation: the other atom of the pair gets a copy. */

@@ -139,7 +139,7 @@ def input_script(*, pair_frictionless: list[str], pair_law: list[str], law_outpu
         "units lj",
         "atom_style sphere",
         "boundary p p p",
-        "newton off",
+        "newton on",
         "comm_modify vel yes",
         "read_data grains.data",
         f"neighbor {skin!r} bin",
