@@ -150,8 +150,11 @@ class FR_CLASS : public Pair {
   double *coeffs;            // FR_NPARAMS values (kt, kn, law parameters) per type pair
   double maxrad;             // largest radius of any atom
   int stride;                // ntypes + 1 when allocated
+  double box0[6];            // h of the last committed force pass (affine yes)
+  int box0_set;              // box0 holds a pass
   void allocate();
   int nhistory() const;    // values per contact: FR_NHISTORY_PROJECT or _ROTATE
+  void affine_rate(double *L);    // the box's velocity gradient since the last pass
   int *carrying_counts();  // the per-atom property fr_carrying, zeroed; or nullptr
   std::string history_id() const { return "NEIGH_HISTORY_FR" + std::to_string(instance_me); }
   double *params(int itype, int jtype) const

@@ -29,7 +29,10 @@ PAIR_CPP = r"""/* pair_frictionrules.cpp -- a LAMMPS pair style running one fric
      the stored tangential displacements (global vectors of the old contact plane) turned by
      the rotation taking the old normal to n, then about n by dt (w_a + w_b).n / 2;
      increment dt = dt Q_t (v_b - v_a [+ L l] - (r_a w_a + r_b w_b) x n), ddn = gap - (de_n + dp_n),
-     L = h_rate h_inv the box's velocity gradient (keyword affine yes: fix deform ... remap x);
+     L dt = (h - h0) h^-1 from the box's change since the last step's force pass (h0: its box;
+     keyword affine yes: fix deform ... remap x moves the centres between the two passes by
+     l - h0 h^-1 l = L l dt exactly, l the branch of this pass; LAMMPS's h_rate is not used:
+     fix deform/pressure gives it in strain, not length, per time);
      force on a: g = T1 t1 + T2 t2 - N n (N > 0 in compression), on b: -g; moment on either
      grain its radius times n x g.
    A pair starts touching at gap < 0; a contact keeps its history until its gap exceeds the
@@ -163,8 +166,9 @@ static inline void fr_turn(const double *u, const double *m, double k, const dou
 
 FR_CLASS::FR_CLASS(LAMMPS *lmp) :
     Pair(lmp), fix_history(nullptr), project(0), skin(0.0), affine(0), coeffs(nullptr),
-    maxrad(0.0), stride(0)
+    maxrad(0.0), stride(0), box0_set(0)
 {
+  for (int k = 0; k < 6; k++) box0[k] = 0.0;
   single_enable = 1;
   no_virial_fdotr_compute = 1;
   single_extra = 4 + FR_NQ;
@@ -361,10 +365,10 @@ void FR_CLASS::compute(int eflag, int vflag)
   fr_initial_state(virgin);
   const int onetype = atom->ntypes == 1;
   const int stride = nhistory();
-  // L = h_rate h_inv (upper triangular, Voigt order xx yy zz yz xz xy), with affine yes
-  const double *hr = domain->h_rate, *hi = domain->h_inv;
-  const double L[6] = {hr[0] * hi[0], hr[1] * hi[1], hr[2] * hi[2], hr[1] * hi[3] + hr[3] * hi[2],
-                       hr[0] * hi[4] + hr[5] * hi[3] + hr[4] * hi[2], hr[0] * hi[5] + hr[5] * hi[1]};
+  // L = (h - h0) h0^-1 / dt (upper triangular, Voigt order xx yy zz yz xz xy), with affine yes:
+  // the box's change since the last committed force pass, the remap between the two passes
+  double L[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+  if (affine && commit) affine_rate(L);
   int *carrying = carrying_counts();    // per-atom force-carrying contacts, if asked for
 
   for (int ii = 0; ii < inum; ii++) {
@@ -494,6 +498,28 @@ void FR_CLASS::compute(int eflag, int vflag)
   if (carrying && newton_pair) comm->reverse_comm(this);    // ghosts' counts to their owners
 }
 
+/* The velocity gradient L of the box's change since the last committed step's force pass (zero
+   at the first one), L dt = (h - h0) h^-1: fix deform's remap x took each branch l0 to
+   l = h h0^-1 l0, so l - l0 = L l dt exactly; the box of this pass kept as h0 for the next. */
+void FR_CLASS::affine_rate(double *L)
+{
+  const double *h = domain->h;
+  if (box0_set) {
+    const double dt = update->dt;
+    double hr[6];
+    for (int k = 0; k < 6; k++) hr[k] = (h[k] - box0[k]) / dt;
+    const double *hi = domain->h_inv;
+    L[0] = hr[0] * hi[0];
+    L[1] = hr[1] * hi[1];
+    L[2] = hr[2] * hi[2];
+    L[3] = hr[1] * hi[3] + hr[3] * hi[2];
+    L[4] = hr[0] * hi[4] + hr[5] * hi[3] + hr[4] * hi[2];
+    L[5] = hr[0] * hi[5] + hr[5] * hi[1];
+  }
+  for (int k = 0; k < 6; k++) box0[k] = h[k];
+  box0_set = 1;
+}
+
 /* The per-atom integer property fr_carrying (fix property/atom i_fr_carrying), zeroed here and
    filled by compute() with each local atom's force-carrying contacts (N > 0, open contacts of
    the skin pushing included); none where the input script does not define it. newton off: a
@@ -603,23 +629,27 @@ void FR_CLASS::read_restart(FILE *fp)
 
 void FR_CLASS::write_restart_settings(FILE *fp)
 {
-  const int sizes[4] = {FR_NPARAMS, nhistory(), project, affine};
-  fwrite(sizes, sizeof(int), 4, fp);
+  const int sizes[5] = {FR_NPARAMS, nhistory(), project, affine, box0_set};
+  fwrite(sizes, sizeof(int), 5, fp);
   fwrite(axis, sizeof(double), 3, fp);
   fwrite(&skin, sizeof(double), 1, fp);
+  fwrite(box0, sizeof(double), 6, fp);    // the last pass's box: the restarted L as the run's
 }
 
 void FR_CLASS::read_restart_settings(FILE *fp)
 {
-  int sizes[4] = {0, 0, 0, 0};
+  int sizes[5] = {0, 0, 0, 0, 0};
   if (comm->me == 0) {
-    utils::sfread(FLERR, sizes, sizeof(int), 4, fp, nullptr, error);
+    utils::sfread(FLERR, sizes, sizeof(int), 5, fp, nullptr, error);
     utils::sfread(FLERR, axis, sizeof(double), 3, fp, nullptr, error);
     utils::sfread(FLERR, &skin, sizeof(double), 1, fp, nullptr, error);
+    utils::sfread(FLERR, box0, sizeof(double), 6, fp, nullptr, error);
   }
-  MPI_Bcast(sizes, 4, MPI_INT, 0, world);
+  MPI_Bcast(sizes, 5, MPI_INT, 0, world);
   project = sizes[2];
   affine = sizes[3];
+  box0_set = sizes[4];
+  MPI_Bcast(box0, 6, MPI_DOUBLE, 0, world);
   MPI_Bcast(axis, 3, MPI_DOUBLE, 0, world);
   MPI_Bcast(&skin, 1, MPI_DOUBLE, 0, world);
   beyond_contact = skin > 0.0 ? 1 : 0;
