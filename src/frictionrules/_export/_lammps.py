@@ -225,7 +225,9 @@ def lammps_readme(target, spec, written) -> str:
         "- the stored elastic tangential displacement turns with the contact: by the rotation "
         "taking the previous normal to `n`, then about `n` by `dt (ω_a + ω_b)·n / 2`;",
         "- increment `Δδt = dt Q_t (v_b − v_a [+ L l] − (r_a ω_a + r_b ω_b) × n)` (`L l` with "
-        "`affine yes`: `L = h_rate h_inv`, the box's velocity gradient, `l = x_b − x_a`), "
+        "`affine yes`: `L dt = (h − h0) h⁻¹`, the box's change since the last step's force pass, "
+        "the affine motion `fix deform ... remap x` gave the centres; LAMMPS's `h_rate` is not "
+        "used, `fix deform/pressure` stores a strain rate there; `l = x_b − x_a`), "
         "`Δδn = gap − (de_n + dp_n)`, passed to the law as `de_n = 0` and the increment "
         "`gap − dp_n` (the same trial) (a new contact: `Δδt = 0`, `Δδn = gap`, the law's "
         "initial internal variables);",
