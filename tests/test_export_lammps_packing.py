@@ -199,3 +199,56 @@ thermo_modify format float %.17g
     assert np.array_equal(straight, resumed)
     sliding = [line.split() for line in log.splitlines() if line.strip().startswith("1000 ")]
     assert float(sliding[-1][4]) > 0.0      # the contacts slid and dissipated
+
+
+def test_restart_bit_for_bit_under_deform_pressure(setup, tmp_path):
+    """The triaxial test's settings (``newton on``, ``skin``, ``affine yes``, Cundall damping,
+    ``fix deform/pressure`` holding x and y at a pressure while z shortens at a true strain
+    rate, ``remap x``), the hardening law: ``write_restart`` after 200 steps and 200 more in a
+    new LAMMPS equal, bit for bit, the run that writes the same restart file and goes on with a
+    second ``run 200`` in the first LAMMPS (1 rank): the fix keeps its state in the restart
+    file, the pair style its last box (the affine term). The two take the same path: a ``run``
+    that starts again recomputes its first forces (the damping's sign from the full-step
+    velocity, the contacts from the stored histories at the centres the last remap moved), and
+    ``write_restart`` itself changes part of the histories' last bits (LAMMPS's history fix
+    packs them again), so an uninterrupted run, or one without ``write_restart``, differs.
+    ``newton off`` is not exact: LAMMPS's history fix restores the pairs of periodic images
+    stored twice differently (1e-12 after 200 steps with ``gran/hooke/history`` too)."""
+    install, data, pair = setup
+    lines = pair["hardening"].replace("axis 1.0 0.0 0.0", "axis 0.0 0.0 1.0 skin 0.1 affine yes")
+    plugin = lines.splitlines()[0]
+    settings = """comm_modify vel yes
+neighbor 0.1 bin
+neigh_modify delay 0 every 1 check yes
+timestep 0.003
+fix damping all damping/cundall 0.2 0.2
+fix integrate all nve/sphere
+compute stress all pressure NULL virial
+fix servo all deform/pressure 1 x pressure 1.0 0.05 y pressure 1.0 0.05 z trate -0.01 &
+    normalize/pressure yes max/rate 0.1 remap x
+fix_modify servo press stress
+thermo_style custom step lx ly lz c_stress[1] c_stress[2] c_stress[3]
+thermo_modify format float %.17g
+thermo 100
+"""
+    start = (_head(data, "on", triclinic=False).replace("units si", "units lj") + lines
+             + settings + "velocity all create 0.01 1 loop geom\nrun 200\n")
+    dump = ("write_dump all custom out.dump id x y z vx vy vz omegax omegay omegaz "
+            "modify format float %.17g\nprint \"BOX $(lx:%.17g) $(ly:%.17g) $(lz:%.17g)\"\n")
+    straight = _run(install, tmp_path / "straight",
+                    start + "write_restart half.restart\nrun 200\n" + dump)
+    (tmp_path / "restart").mkdir()
+    run_lmp(install, tmp_path / "restart", start + "write_restart half.restart\n")
+    log = run_lmp(install, tmp_path / "restart", f"{plugin}\nread_restart half.restart\n"
+                  + settings + "run 200\n" + dump)
+    resumed = read_dump(tmp_path / "restart" / "out.dump")
+    box = [line for line in (tmp_path / "straight" / "log.lammps").read_text().splitlines()
+           if line.startswith("BOX")]
+    assert box and box[-1] in log.splitlines()          # the same box, every digit
+    assert np.array_equal(straight, resumed)
+    # the box moved: z by the true strain rate over 400 steps, exp(-0.01 × 400 × 0.003)
+    lz0 = next(float(line.split()[1]) for line in data.read_text().splitlines()
+               if line.endswith("zlo zhi"))
+    lz = float(box[-1].split()[3])
+    assert lz / lz0 == pytest.approx(np.exp(-0.012), rel=1e-12)
+
