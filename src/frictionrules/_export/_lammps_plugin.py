@@ -156,7 +156,11 @@ class FR_CLASS : public Pair {
   int nhistory() const;    // values per contact: FR_NHISTORY_PROJECT or _ROTATE
   void affine_rate(double *L);    // the box's velocity gradient since the last pass
   int *carrying_counts();  // the per-atom property fr_carrying, zeroed; or nullptr
-  std::string history_id() const { return "NEIGH_HISTORY_FR" + std::to_string(instance_me); }
+  int history_instance;      // names the history fix: this instance's, or the restart's writer's
+  std::string history_id() const
+  {
+    return "NEIGH_HISTORY_FR" + std::to_string(history_instance);
+  }
   double *params(int itype, int jtype) const
   {
     return coeffs + FR_NPARAMS * (static_cast<size_t>(itype) * stride + jtype);

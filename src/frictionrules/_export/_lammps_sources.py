@@ -166,7 +166,7 @@ static inline void fr_turn(const double *u, const double *m, double k, const dou
 
 FR_CLASS::FR_CLASS(LAMMPS *lmp) :
     Pair(lmp), fix_history(nullptr), project(0), skin(0.0), affine(0), coeffs(nullptr),
-    maxrad(0.0), stride(0), box0_set(0)
+    maxrad(0.0), stride(0), box0_set(0), history_instance(instance_me)
 {
   for (int k = 0; k < 6; k++) box0[k] = 0.0;
   single_enable = 1;
@@ -629,8 +629,8 @@ void FR_CLASS::read_restart(FILE *fp)
 
 void FR_CLASS::write_restart_settings(FILE *fp)
 {
-  const int sizes[5] = {FR_NPARAMS, nhistory(), project, affine, box0_set};
-  fwrite(sizes, sizeof(int), 5, fp);
+  const int sizes[6] = {FR_NPARAMS, nhistory(), project, affine, box0_set, history_instance};
+  fwrite(sizes, sizeof(int), 6, fp);
   fwrite(axis, sizeof(double), 3, fp);
   fwrite(&skin, sizeof(double), 1, fp);
   fwrite(box0, sizeof(double), 6, fp);    // the last pass's box: the restarted L as the run's
@@ -638,17 +638,27 @@ void FR_CLASS::write_restart_settings(FILE *fp)
 
 void FR_CLASS::read_restart_settings(FILE *fp)
 {
-  int sizes[5] = {0, 0, 0, 0, 0};
+  int sizes[6] = {0, 0, 0, 0, 0, 0};
   if (comm->me == 0) {
-    utils::sfread(FLERR, sizes, sizeof(int), 5, fp, nullptr, error);
+    utils::sfread(FLERR, sizes, sizeof(int), 6, fp, nullptr, error);
     utils::sfread(FLERR, axis, sizeof(double), 3, fp, nullptr, error);
     utils::sfread(FLERR, &skin, sizeof(double), 1, fp, nullptr, error);
     utils::sfread(FLERR, box0, sizeof(double), 6, fp, nullptr, error);
   }
-  MPI_Bcast(sizes, 5, MPI_INT, 0, world);
+  MPI_Bcast(sizes, 6, MPI_INT, 0, world);
   project = sizes[2];
   affine = sizes[3];
   box0_set = sizes[4];
+  // the history fix keeps the writer's name, under which the restart file holds the histories
+  // (another pair style may have run before this one there, and numbered it otherwise)
+  if (sizes[5] != history_instance && fix_history == nullptr) {
+    const std::string placeholder = history_id() + "_DUMMY";
+    history_instance = sizes[5];
+    if (modify->get_fix_by_id(placeholder)) {
+      modify->delete_fix(placeholder);
+      modify->add_fix(history_id() + "_DUMMY all DUMMY");
+    }
+  }
   MPI_Bcast(box0, 6, MPI_DOUBLE, 0, world);
   MPI_Bcast(axis, 3, MPI_DOUBLE, 0, world);
   MPI_Bcast(&skin, 1, MPI_DOUBLE, 0, world);
