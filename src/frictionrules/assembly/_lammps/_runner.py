@@ -415,6 +415,9 @@ def _message(folder: Path, opts: dict, ended: str, ranks) -> str:
              "box servo fix deform/pressure (proportional, gain "
              f"{opts['gain']:.3g}/time on the relative stress error, rate bounded as ours)",
              "Cundall damping on the half-step velocity"]
+    if opts["law_outputs"]:
+        parts.append("the affine part of the relative motion in the tangential history one step "
+                     "after ours (when fix deform's remap has moved the centres)")
     if not opts["law_outputs"]:
         parts += ["affine part of the relative velocity not in the tangential history "
                   "(remap x)", "a contact's history erased when it opens (ours: kept within "
