@@ -77,7 +77,7 @@ def draw(folder: Path, out: Path) -> Path:
     d -= size * np.round(d / size)                       # the nearest image of j
     gap = np.linalg.norm(d, axis=1) - radius[i] - radius[j]
     segments = np.stack((x[i], x[i] + d), axis=1)
-    fig = plt.figure(figsize=(12, 5.6))
+    fig = plt.figure(figsize=(12, 5.2))
     for k, (value, name, cmap) in enumerate(((N, "normal force N", "inferno_r"),
                                              (diss, "dissipation of the contact since it formed",
                                               "viridis_r"))):
@@ -91,25 +91,29 @@ def draw(folder: Path, out: Path) -> Path:
         pushing = gap > 0.0                               # dilatant contacts open, still pushing
         if k == 0 and pushing.any():
             mid = segments[pushing].mean(axis=1)
-            ax.scatter(*mid.T, s=10, color="C0", depthshade=False,
-                       label=f"{pushing.sum()} contacts pushing with a positive gap")
-            ax.legend(loc="upper left", fontsize=8)
-        ax.scatter(*x.T, s=2, color="0.6", depthshade=False)
+            ax.scatter(*mid.T, s=3, color="C0", alpha=0.6, depthshade=False,
+                       label=f"midpoints of the {pushing.sum()} contacts pushing with a "
+                             "positive gap (dilatancy)")
+            ax.legend(loc="upper left", fontsize=7, frameon=False)
+        ax.scatter(*x.T, s=1, color="0.6", depthshade=False)
         corners = lo + size * np.array([[a, b, c] for a in (0, 1) for b in (0, 1) for c in (0, 1)])
         for p in range(8):
             for q in range(p + 1, 8):
                 if np.count_nonzero(corners[p] != corners[q]) == 1:
                     ax.plot(*corners[[p, q]].T, color="C0", lw=0.6, ls="--")
-        ax.set(xlabel="x", ylabel="y", zlabel="z (axial)")
-        ax.set_box_aspect(size)
+        ax.set(xlabel="x", ylabel="y", zlabel="z (axial)", xlim=(lo[0] - 1, lo[0] + size[0] + 1),
+               ylim=(lo[1] - 1, lo[1] + size[1] + 1), zlim=(lo[2] - 1, lo[2] + size[2] + 1))
+        ax.set_box_aspect(size + 2)
         ax.view_init(elev=12, azim=-60)
+        for axis in "xyz":
+            ax.locator_params(axis=axis, nbins=4)
         for axis in (ax.xaxis, ax.yaxis, ax.zaxis):
             axis.set_pane_color((1, 1, 1, 0))
         sm = plt.cm.ScalarMappable(norm=scale, cmap=cm)
         fig.colorbar(sm, ax=ax, shrink=0.55, pad=0.08, extend="max", label=name)
     fig.suptitle(f"LAMMPS, the exported dilatant UserLaw at every contact: {len(N)} force-carrying "
                  f"contacts of 400 spheres, {int(slid.sum())} sliding (the last restart file, read "
-                 "back by LAMMPS)", fontsize=10)
+                 "back by LAMMPS)", fontsize=10, y=0.95)
     out.mkdir(parents=True, exist_ok=True)
     path = out / "assembly_lammps_contacts.png"
     fig.savefig(path, dpi=110, bbox_inches="tight")
@@ -125,6 +129,14 @@ def main(argv=None) -> None:
     parser.add_argument("--out", default=str(HERE.parent / "docs" / "figures"))
     args = parser.parse_args(argv)
     draw(run(args.strain), Path(args.out))
+    # the records of the run, for the caption
+    import assembly_lammps as bench
+    import frictionrules as fr
+    r = fr.read_lammps_triaxial(bench.assembly_of(bench.sample(1), bench.make_law("dilatant", 0.3)),
+                                FOLDER)
+    print(f"at axial strain {r.axial_strain[-1]:.4f}: ε_v {r.volumetric_strain[-1]:.4f}, "
+          f"Z {r.coordination[-1]:.3f}, sliding fraction {r.sliding_fraction[-1]:.3f}, "
+          f"peak angle {r.peak_friction_angle:.2f}°")
 
 
 if __name__ == "__main__":
