@@ -272,6 +272,8 @@ def _positions(folder: Path, n: int) -> list:
     out, k, step, seen = [], 0, None, set()
     while k < len(lines):
         if lines[k].startswith("ITEM: TIMESTEP"):
+            if k + 1 >= len(lines) or not lines[k + 1].strip():    # being written
+                break
             step = int(lines[k + 1])
             k += 2
         elif lines[k].startswith("ITEM: ATOMS"):
