@@ -210,10 +210,9 @@ def test_restart_bit_for_bit_under_deform_pressure(setup, tmp_path):
     file, the pair style its last box (the affine term). The two take the same path: a ``run``
     that starts again recomputes its first forces (the damping's sign from the full-step
     velocity, the contacts from the stored histories at the centres the last remap moved), and
-    ``write_restart`` itself changes part of the histories' last bits (LAMMPS's history fix
-    packs them again), so an uninterrupted run, or one without ``write_restart``, differs.
-    ``newton off`` is not exact: LAMMPS's history fix restores the pairs of periodic images
-    stored twice differently (1e-12 after 200 steps with ``gran/hooke/history`` too)."""
+    a run that calls ``write_restart`` goes on otherwise than one that does not, so an
+    uninterrupted run, or one without ``write_restart``, differs. ``newton off`` is not exact
+    (1e-12 after 200 steps with LAMMPS's ``gran/hooke/history`` too)."""
     install, data, pair = setup
     lines = pair["hardening"].replace("axis 1.0 0.0 0.0", "axis 0.0 0.0 1.0 skin 0.1 affine yes")
     plugin = lines.splitlines()[0]
