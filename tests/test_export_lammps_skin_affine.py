@@ -65,6 +65,28 @@ def test_dilatant_contact_pushes_while_gap_below_dp_n(built, tmp_path):
     assert statuses[-1] == -1 and gaps[-1] > SKIN    # lost beyond it
 
 
+def test_dilatant_opening_beyond_the_skin_follows_contact_model(built, tmp_path):
+    """A long slide at overlap 0.01 (300 steps: the plastic opening dp_n = β × slip grows to
+    about 0.036, nearly twice the skin, and N = kn (dp_n − gap) to four times its start), then
+    the spheres part by 0.0017 a step: at every step the force of ContactModel.update
+    (4.2)-(4.5) to 1e-10, the contact pushing with a positive gap and lost only beyond the
+    skin."""
+    install, folders = built
+    n = N_GENERIC
+    t1 = frame(n)
+    zero = np.zeros(3)
+    x2 = (2 * R - 0.01) * n
+    steps = [(x2, zero, zero, zero, zero)] + [(x2, zero, 1.3 * t1, zero, zero)] * 300
+    steps += [((2 * R - 0.01 + 0.0017 * k) * n, zero, 0.5 * t1, zero, zero) for k in range(1, 25)]
+    out = drive(install, tmp_path, _with_skin(_job(folders["dilatant"], steps), "dilatant", SKIN))
+    statuses = _check(out, steps, DILATANT, skin=SKIN)
+    gaps = np.array([np.linalg.norm(s[0]) - 2 * R for s in steps])
+    normal = np.nan_to_num(np.array([row[0][0] for row in out["local"]]))
+    assert normal[300] > 3 * KN * 0.01                      # dilatancy blocked: N grew
+    assert np.count_nonzero((gaps > 0.0) & (normal > 0.0)) >= 5
+    assert statuses[-1] == -1 and gaps[-1] > SKIN
+
+
 def test_carrying_count_includes_dilatant_contact_pushing_with_a_gap(built, tmp_path):
     """``fix property/atom i_fr_carrying``: the pair style counts each atom's force-carrying
     contacts (N > 0 of (4.2), N = −kn (gap − dp_n)); ``compute contact/atom`` counts
