@@ -28,9 +28,11 @@ def run(strain: float) -> Path:
     """The LAMMPS run (kept), then the contacts and grains of its last restart file."""
     import assembly_lammps as bench
     import frictionrules as fr
-    from frictionrules.assembly._lammps._runner import lammps_environment, lammps_install, run_lammps
+    from frictionrules.assembly._lammps._runner import (lammps_environment, lammps_install,
+                                                        run_lammps)
     a = bench.assembly_of(bench.sample(1), bench.make_law("dilatant", 0.3))
-    if not (FOLDER / "stages.txt").exists() or "shear done" not in (FOLDER / "stages.txt").read_text():
+    stages = FOLDER / "stages.txt"
+    if not stages.exists() or "shear done" not in stages.read_text():
         files = fr.write_lammps_triaxial(a, "axisymmetric", FOLDER, pressure=bench.PRESSURE,
                                          axial_strain=strain, consolidation="frictionless",
                                          record_every=1e-3, restart_every=strain)
@@ -46,7 +48,8 @@ fix carrying all property/atom i_fr_carrying
 compute pairs all property/local patom1 patom2
 compute laws all pair/local p1 p2 p3 p4
 run 0
-write_dump all local contacts.dump c_pairs[1] c_pairs[2] c_laws[1] c_laws[2] c_laws[3] c_laws[4] modify format float %.17g
+write_dump all local contacts.dump c_pairs[1] c_pairs[2] c_laws[1] c_laws[2] c_laws[3] &
+    c_laws[4] modify format float %.17g
 write_dump all custom grains.dump id x y z radius modify sort id format float %.17g
 """
     (FOLDER / "in.contacts").write_text(script)
@@ -86,7 +89,8 @@ def draw(folder: Path, out: Path) -> Path:
         top = np.quantile(value, 0.98) if np.any(value > 0) else 1.0
         scale = plt.Normalize(0.0, top, clip=True)
         cm = plt.get_cmap(cmap)
-        ax.add_collection3d(Line3DCollection(segments[order], linewidths=0.3 + 3.0 * scale(value[order]),
+        width = 0.3 + 3.0 * scale(value[order])
+        ax.add_collection3d(Line3DCollection(segments[order], linewidths=width,
                                              colors=cm(0.1 + 0.9 * scale(value[order]))))
         pushing = gap > 0.0                               # dilatant contacts open, still pushing
         if k == 0 and pushing.any():

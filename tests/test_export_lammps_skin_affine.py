@@ -166,8 +166,8 @@ def test_affine_term_in_tangential_increment(built, tmp_path, affine):
     assert abs(row[1] - want) <= 1e-12 * KT * DT * RATE * d, (row, want)
     # N from the distance after the step's remap: the overlap 0.01 nearly unchanged
     assert row[2] == 0.0 and row[0] == pytest.approx(KN * 0.01, rel=1e-3)
-    # the force on the first sphere along x: T t_x - N n_x, t_x = 1/√(1 + s²), n_x = s/√(1 + s²),
-    # N = kn (2R - d √(1 + s²)) at that pass
+    # the force on the first sphere along x: T t_x - N n_x, t_x = 1/√(1 + s²),
+    # n_x = s/√(1 + s²), N = kn (2R - d √(1 + s²)) at that pass
     normal = KN * (2 * R - d * np.sqrt(1 + s * s))
     np.testing.assert_allclose(out["f"][2][0][0], (want - normal * s) / np.sqrt(1 + s * s),
                                rtol=1e-9, atol=1e-12 * KT * DT)
@@ -186,7 +186,8 @@ def test_affine_term_follows_the_box_under_deform_pressure(built, tmp_path):
     c = float(d / np.sqrt(2.0))
     setup = ["units si", "atom_style sphere", "atom_modify map array", "boundary p p p",
              "region box block 0 8 0 8 0 8", "create_box 1 box",
-             "create_atoms 1 single 3.0 4.0 3.0", f"create_atoms 1 single {3.0 + c!r} 4.0 {3.0 + c!r}",
+             "create_atoms 1 single 3.0 4.0 3.0",
+             f"create_atoms 1 single {3.0 + c!r} 4.0 {3.0 + c!r}",
              f"set type 1 diameter {2 * R}", "set type 1 density 1000.0",
              f"include {folders['coulomb'] / 'pair.lmp'}",
              "pair_style frictionrules/coulomb affine yes", "neighbor 0.5 bin",
