@@ -142,16 +142,20 @@ def test_history_across_two_ranks_hardening(setup, tmp_path, newton):
     assert np.abs(one[:, 4:10] - two[:, 4:10]).max() < 1e-7 * vscale
 
 
-@pytest.mark.parametrize("newton,ranks", [("off", 1), ("on", 1), ("on", 2)])
-def test_carrying_counts_are_the_overlaps_for_coulomb(setup, tmp_path, newton, ranks):
+@pytest.mark.parametrize("newton,ranks,keywords", [
+    ("off", 1, ""), ("on", 1, ""), ("on", 2, ""), ("on", 2, "history project dissipation no")])
+def test_carrying_counts_are_the_overlaps_for_coulomb(setup, tmp_path, newton, ranks, keywords):
     """``fix property/atom i_fr_carrying``: each atom's force-carrying contacts. For Coulomb
     (no normal slip) N = −kn·gap > 0 exactly where the spheres overlap, so per atom they are
     ``compute contact/atom``'s count, after 300 steps of the packing in shear motion (contacts
     formed and lost); on 2 ranks with newton on the ghosts' counts come back by the pair
-    style's reverse communication."""
+    style's reverse communication. Also with the shortest history (``history project
+    dissipation no``: other modes of the contact loop)."""
     install, data, pair = setup
     grid = "processors 2 1 1\n" if ranks == 2 else ""
-    script = (_head(data, newton, grid, triclinic=False) + pair["coulomb"]
+    lines = pair["coulomb"].replace("axis 1.0 0.0 0.0", f"axis 1.0 0.0 0.0 {keywords}")
+    assert keywords in lines
+    script = (_head(data, newton, grid, triclinic=False) + lines
               + """fix carrying all property/atom i_fr_carrying
 comm_modify vel yes
 neighbor 0.3 bin
