@@ -1,7 +1,7 @@
 """Benchmark: the same triaxial test in our engine and in LAMMPS (``engine="lammps"``).
 
 One command: ``python benchmarks/assembly_lammps.py [--seeds 1,2,3] [--mu 0.3,0.5]
-[--laws coulomb,dilatant] [--strain 0.25] [--pair exported|gran/hooke/history]
+[--laws coulomb,dilatant] [--cases coulomb:0.3,dilatant:0.3] [--strain 0.25] [--pair exported|gran/hooke/history]
 [--cost-grains 10000] [--scale-grains 100000] [--skip-stats] [--skip-cost] [--skip-scale]``.
 
 * **Statistics** (``results/assembly_lammps.md``): ``Assembly.random(400, 3, seed=s,
@@ -140,32 +140,34 @@ def statistics_table(args) -> None:
     from _dem_compare import statistics, within
     from _table import write_table
     seeds = [int(v) for v in args.seeds.split(",")]
-    mus = [float(v) for v in args.mu.split(",")]
-    laws = [v for v in args.laws.split(",") if v]
+    if args.cases:    # law:mu pairs instead of every law at every mu
+        cases = [(c.split(":")[0], float(c.split(":")[1])) for c in args.cases.split(",")]
+    else:
+        cases = [(law, float(mu)) for law in args.laws.split(",") if law
+                 for mu in args.mu.split(",")]
     keys = (("peak", 2), ("end", 2), ("ev", 4), ("z", 2))
     rows, notes, per = [], [], {}
-    for law in laws:
-        for mu in mus:
-            for seed in seeds:
-                s = sample(seed)
-                ours, _ = run_one(s, law, mu, "frictionrules", args.strain)
-                if ours is None:
-                    continue
-                theirs, why = run_one(s, law, mu, "lammps", args.strain, args.pair)
-                so = statistics(ours, args.strain)
-                sl = statistics(theirs, args.strain) if theirs is not None else None
-                per.setdefault((law, mu), []).append((so, sl))
-                if theirs is None:
-                    notes.append(f"{law} μ = {mu:g}: LAMMPS not run: {why}")
-                row = [law, mu, seed]
-                for k, d in keys:
-                    a = getattr(so, k)
-                    b = getattr(sl, k) if sl else math.nan
-                    row += [_f(a, d), _f(b, d), f"{_f(a - b, d)} {within(a - b, k, False)}"]
-                row += [_f(ours.wall, 0), _f(theirs.wall, 0) if theirs else "–"]
-                rows.append(row)
-                print(row, flush=True)
-                _write(args, rows, notes, per, keys, write_table)
+    for law, mu in cases:
+        for seed in seeds:
+            s = sample(seed)
+            ours, _ = run_one(s, law, mu, "frictionrules", args.strain)
+            if ours is None:
+                continue
+            theirs, why = run_one(s, law, mu, "lammps", args.strain, args.pair)
+            so = statistics(ours, args.strain)
+            sl = statistics(theirs, args.strain) if theirs is not None else None
+            per.setdefault((law, mu), []).append((so, sl))
+            if theirs is None:
+                notes.append(f"{law} μ = {mu:g}: LAMMPS not run: {why}")
+            row = [law, mu, seed]
+            for k, d in keys:
+                a = getattr(so, k)
+                b = getattr(sl, k) if sl else math.nan
+                row += [_f(a, d), _f(b, d), f"{_f(a - b, d)} {within(a - b, k, False)}"]
+            row += [_f(ours.wall, 0), _f(theirs.wall, 0) if theirs else "–"]
+            rows.append(row)
+            print(row, flush=True)
+            _write(args, rows, notes, per, keys, write_table)
     _write(args, rows, notes, per, keys, write_table)
 
 
@@ -392,6 +394,9 @@ def main(argv=None) -> None:
     parser.add_argument("--seeds", default="1,2,3")
     parser.add_argument("--mu", default="0.3,0.5")
     parser.add_argument("--laws", default="coulomb,dilatant")
+    parser.add_argument("--cases", default="",
+                        help="law:mu pairs (coulomb:0.3,coulomb:0.5,dilatant:0.3) instead of "
+                             "--laws × --mu")
     parser.add_argument("--strain", type=float, default=0.25)
     parser.add_argument("--cost-grains", type=int, default=10_000)
     parser.add_argument("--cost-strain", type=float, default=2e-3)

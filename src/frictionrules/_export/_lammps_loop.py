@@ -1,8 +1,9 @@
 """The contact loop of target ``lammps``'s pair style (``compute``: the same text for every
 law), a part of ``pair_frictionrules.cpp`` (:mod:`._lammps_sources` puts it together).
 
-The modes (setup or a step, ``history project|rotate``, ``affine``, ``dissipation``) are
-template parameters, so that the loop over contacts has no branch on them. The law comes in
+The modes (setup or a step, ``history project|rotate``, ``affine``, ``dissipation``, and
+whether the input script asks for the force-carrying counts ``fr_carrying``) are template
+parameters, so that the loop over contacts has no branch on them. The law comes in
 through ``frictionrules_law.h``: ``fr_update`` (for a law with a radial return its structured
 return, compiled inline) and ``FR_ISOTROPIC`` (a law that depends on T through |T| only: the
 frame along the trial's tangential displacement).
@@ -18,25 +19,33 @@ PAIR_LOOP = r"""void FR_CLASS::compute(int eflag, int vflag)
   // setup (the forces of a run's first step) commits nothing: the force of a contact is the
   // one of its last step, as LAMMPS's granular styles do. The modes are template parameters,
   // so that the contact loop has no branch on them.
+  // L = (h - h0) h^-1 / dt (upper triangular, Voigt order xx yy zz yz xz xy), with affine yes:
+  // the box's change since the last committed force pass, the remap between the two passes
+  double L[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+  if (affine && !update->setupflag) affine_rate(L);
+  int *carrying = carrying_counts();    // per-atom force-carrying contacts, if asked for
   if (tally)
-    dispatch<1>();
+    carrying ? dispatch<1, 1>(L, carrying) : dispatch<1, 0>(L, carrying);
   else
-    dispatch<0>();
+    carrying ? dispatch<0, 1>(L, carrying) : dispatch<0, 0>(L, carrying);
+  if (carrying && force->newton_pair) comm->reverse_comm(this);    // ghosts' counts to owners
 }
 
-template <int TALLY> void FR_CLASS::dispatch()
+template <int TALLY, int COUNT> void FR_CLASS::dispatch(const double *L, int *carrying)
 {
   if (update->setupflag)
-    project ? eval<0, 1, 0, TALLY>() : eval<0, 0, 0, TALLY>();
+    project ? eval<0, 1, 0, TALLY, COUNT>(L, carrying) : eval<0, 0, 0, TALLY, COUNT>(L, carrying);
   else if (project)
-    affine ? eval<1, 1, 1, TALLY>() : eval<1, 1, 0, TALLY>();
+    affine ? eval<1, 1, 1, TALLY, COUNT>(L, carrying) : eval<1, 1, 0, TALLY, COUNT>(L, carrying);
   else
-    affine ? eval<1, 0, 1, TALLY>() : eval<1, 0, 0, TALLY>();
+    affine ? eval<1, 0, 1, TALLY, COUNT>(L, carrying) : eval<1, 0, 0, TALLY, COUNT>(L, carrying);
 }
 
 /* The contact loop: COMMIT (not LAMMPS's setup: the history moves on), PROJECT (history
-   project), AFFINE (affine yes), TALLY (dissipation yes). */
-template <int COMMIT, int PROJECT, int AFFINE, int TALLY> void FR_CLASS::eval()
+   project), AFFINE (affine yes: Lr the box's velocity gradient), TALLY (dissipation yes), COUNT
+   (the property fr_carrying defined: each atom's contacts with N > 0 added to carrying). */
+template <int COMMIT, int PROJECT, int AFFINE, int TALLY, int COUNT>
+void FR_CLASS::eval(const double *Lr, int *carrying)
 {
   constexpr FrLayout H(PROJECT, TALLY);
   const double dt = update->dt;
@@ -59,10 +68,7 @@ template <int COMMIT, int PROJECT, int AFFINE, int TALLY> void FR_CLASS::eval()
   const int reach_on = skin > 0.0;
   const double axis[3] = {this->axis[0], this->axis[1], this->axis[2]};
   const int stride = H.size;
-  // L = h_rate h_inv (upper triangular, Voigt order xx yy zz yz xz xy), with affine yes
-  const double *hr = domain->h_rate, *hi = domain->h_inv;
-  const double L[6] = {hr[0] * hi[0], hr[1] * hi[1], hr[2] * hi[2], hr[1] * hi[3] + hr[3] * hi[2],
-                       hr[0] * hi[4] + hr[5] * hi[3] + hr[4] * hi[2], hr[0] * hi[5] + hr[5] * hi[1]};
+  const double L[6] = {Lr[0], Lr[1], Lr[2], Lr[3], Lr[4], Lr[5]};
 
   for (int ii = 0; ii < inum; ii++) {
     const int i = ilist[ii];
@@ -86,10 +92,10 @@ template <int COMMIT, int PROJECT, int AFFINE, int TALLY> void FR_CLASS::eval()
       const double dist = sqrt(rsq), gap = dist - radsum, inv = sg / dist;
       const double n[3] = {d0 * inv, d1 * inv, d2 * inv};
       const int fresh = !touch[jj];
-      double g[3];
+      double g[3], Nc;    // the force on a, its normal part N (> 0 in compression)
       const double *p = p1 ? p1 : params(type[i], type[j]);
       if (!COMMIT && !fresh) {
-        fr_last_force(h, H.pn, p, gap, n, g);
+        Nc = fr_last_force(h, H.pn, p, gap, n, g);
       } else {
         double state[FR_NSTATE], next[FR_NSTATE], inc[3] = {0.0, 0.0, gap}, frc[3];
         fr_initial_state(state);
@@ -161,6 +167,7 @@ template <int COMMIT, int PROJECT, int AFFINE, int TALLY> void FR_CLASS::eval()
                             "atoms {} and {} (increment {} {} {})", swap ? tag[j] : tag[i],
                      swap ? tag[i] : tag[j], inc[0], inc[1], inc[2]);
         const double T1 = frc[0], T2 = frc[1], N = frc[2];
+        Nc = N;
         double de[3];    // the new elastic tangential displacement, global
         for (int c = 0; c < 3; c++) {
           g[c] = T1 * t1[c] - N * n[c];
@@ -213,6 +220,10 @@ template <int COMMIT, int PROJECT, int AFFINE, int TALLY> void FR_CLASS::eval()
       }
       if (evflag)
         ev_tally_xyz(i, j, nlocal, newton_pair, 0.0, 0.0, fi[0], fi[1], fi[2], -d0, -d1, -d2);
+      if (COUNT && Nc > 0.0) {    // a force-carrying contact
+        carrying[i]++;
+        if (newton_pair || j < nlocal) carrying[j]++;
+      }
     }
   }
 }

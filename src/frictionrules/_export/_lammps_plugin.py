@@ -138,6 +138,8 @@ class FR_CLASS : public Pair {
   double single(int, int, int, int, double, double, double, double &) override;
   void transfer_history(double *, double *, int, int) override;
   double memory_usage() override;
+  int pack_reverse_comm(int, int, double *) override;
+  void unpack_reverse_comm(int, int *, double *) override;
 
  protected:
   class Fix *fix_history;    // the fix NEIGH_HISTORY holding every contact's history
@@ -149,11 +151,20 @@ class FR_CLASS : public Pair {
   double *coeffs;            // FR_NPARAMS values (kt, kn, law parameters) per type pair
   double maxrad;             // largest radius of any atom
   int stride;                // ntypes + 1 when allocated
+  double box0[6];            // h of the last committed force pass (affine yes)
+  int box0_set;              // box0 holds a pass
   void allocate();
-  template <int TALLY> void dispatch();
-  template <int COMMIT, int PROJECT, int AFFINE, int TALLY> void eval();
+  template <int TALLY, int COUNT> void dispatch(const double *L, int *carrying);
+  template <int COMMIT, int PROJECT, int AFFINE, int TALLY, int COUNT>
+  void eval(const double *L, int *carrying);
   int nhistory() const;    // values per contact: FR_NHISTORY_PROJECT or _ROTATE
-  std::string history_id() const { return "NEIGH_HISTORY_FR" + std::to_string(instance_me); }
+  void affine_rate(double *L);    // the box's velocity gradient since the last pass
+  int *carrying_counts();  // the per-atom property fr_carrying, zeroed; or nullptr
+  int history_instance;      // names the history fix: this instance's, or the restart's writer's
+  std::string history_id() const
+  {
+    return "NEIGH_HISTORY_FR" + std::to_string(history_instance);
+  }
   double *params(int itype, int jtype) const
   {
     return coeffs + FR_NPARAMS * (static_cast<size_t>(itype) * stride + jtype);

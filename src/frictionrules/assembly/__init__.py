@@ -11,7 +11,8 @@ same test in LAMMPS: :func:`write_lammps_triaxial`, :func:`read_lammps_triaxial`
 from ._config import read_config, read_samples
 from ._ensemble import EnsembleResult, EnsembleRun, EnsembleSummary, ensemble
 from ._geometry import Assembly
-from ._lammps import LammpsFiles, read_lammps_triaxial, write_lammps_triaxial
+from ._lammps import (LammpsFiles, read_lammps_triaxial, resume_lammps_triaxial,
+                      write_lammps_triaxial)
 from ._loading import load_cell, triaxial
 from ._results import ContactSnapshot, SampleState, TriaxialResult
 from ._statistics import ConfidenceInterval, MeanCurve
@@ -19,4 +20,5 @@ from ._vtk import write_vtk
 
 __all__ = ["Assembly", "triaxial", "load_cell", "TriaxialResult", "ContactSnapshot", "SampleState", "read_config", "read_samples",
            "write_vtk", "ensemble", "EnsembleResult", "EnsembleRun", "EnsembleSummary",
-           "ConfidenceInterval", "MeanCurve", "write_lammps_triaxial", "read_lammps_triaxial", "LammpsFiles"]
+           "ConfidenceInterval", "MeanCurve", "write_lammps_triaxial", "read_lammps_triaxial", "LammpsFiles",
+           "resume_lammps_triaxial"]

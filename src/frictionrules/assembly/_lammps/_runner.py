@@ -22,16 +22,17 @@ from ...errors import FrictionRulesError, check_scalar
 from .._consolidation import consolidation_of
 from .._results import SampleState, TriaxialResult, snapshot
 from ._pair import pair_lines
-from ._script import POSITIONS, RECORD_COLUMNS, RECORDS, STAGES
+from ._script import POSITIONS, RECORD_COLUMNS, RECORDS, RESTART_PREFIX, STAGES
 
 __all__ = ["LammpsFiles", "write_lammps_triaxial", "read_lammps_triaxial", "run_lammps",
-           "lammps_triaxial", "SNAPSHOT_GRAINS", "check_lammps_options"]
+           "lammps_triaxial", "resume_lammps_triaxial", "SNAPSHOT_GRAINS",
+           "check_lammps_options"]
 
 #: Samples up to this many grains keep their centres and contacts at every record; larger
 #: ones at the last record only (the records' stress, strain, coordination are kept for all).
 SNAPSHOT_GRAINS = 5000
 #: The input script's and data file's names in the folder.
-INPUT, DATA, OPTIONS = "in.triaxial", "grains.data", "run.json"
+INPUT, DATA, OPTIONS, RESUME = "in.triaxial", "grains.data", "run.json", "in.resume"
 #: The exit code of the input script when a consolidation does not settle.
 _NOT_SETTLED = 3
 
@@ -111,7 +112,8 @@ def write_lammps_triaxial(assembly, kind: str, folder, *, pressure: float, axial
                           consolidation: str = "auto", inertial_number: float = 4e-4,
                           damping: float = 0.2, density: float = 1.0, record_every: float = 1e-3,
                           peak_window: float = 2.5e-3, failure_slope: float = 1e-2,
-                          cell: str = "rectangular", pair_style: str = "exported") -> LammpsFiles:
+                          cell: str = "rectangular", pair_style: str = "exported",
+                          restart_every: float | None = None) -> LammpsFiles:
     r"""Write the files of ``triaxial(..., method="dem", engine="lammps")`` into ``folder``
     without running them (a cluster's batch system runs ``lmp -in in.triaxial`` there; then
     :func:`read_lammps_triaxial` reads the result).
@@ -122,6 +124,10 @@ def write_lammps_triaxial(assembly, kind: str, folder, *, pressure: float, axial
     (the default: the law's pair style, ``export(law, "lammps", folder/"pair", build=True)``,
     compiled here with the system's C and C++ compilers) or "gran/hooke/history" (LAMMPS's
     own linear spring-Coulomb, for a Coulomb cone only: what a comparison runs against).
+    ``restart_every`` (axial strain, a whole number of records): the shear runs in segments
+    with a restart file ``shear.<step>.restart`` after each, and ``in.resume`` goes on from any
+    of them (:func:`resume_lammps_triaxial`; on one rank the resumed run repeats the one that
+    wrote the file bit for bit).
 
     Returns
     -------
@@ -129,7 +135,7 @@ def write_lammps_triaxial(assembly, kind: str, folder, *, pressure: float, axial
     """
     from .._dem import check_dem_options
     from .._dem._dynamics import SKIN, unit_rate
-    from ._script import data_file, input_script, servo_gain, time_step_of
+    from ._script import data_file, input_script, resume_script, servo_gain, steps_of, time_step_of
     p = check_scalar("pressure", pressure, lo=0.0, lo_open=True)
     a = check_scalar("axial_strain", axial_strain, lo=0.0, lo_open=True, hi=0.5)
     check_scalar("failure_slope", failure_slope, lo=0.0, lo_open=True, hi=1.0)
@@ -148,6 +154,15 @@ def write_lammps_triaxial(assembly, kind: str, folder, *, pressure: float, axial
     dt = time_step_of(assembly.radii, opts["density"], max(model.kn, model.kt))
     mean_r = float(np.mean(assembly.radii))
     gain = servo_gain(p, model.kn, model.kt, mean_r, dt)
+    record_steps, steps = steps_of(rate, dt, opts["record_every"], a)
+    restart_steps = None
+    if restart_every is not None:
+        every = check_scalar("restart_every", restart_every, lo=0.0, lo_open=True, hi=a)
+        k = every / opts["record_every"]
+        if abs(k - round(k)) > 1e-9 * k:
+            raise FrictionRulesError(f"restart_every = {restart_every!r} violates: a whole number "
+                                     f"of record_every = {opts['record_every']!r}")
+        restart_steps = int(round(k)) * record_steps
     for name in (RECORDS, POSITIONS, STAGES):
         (out / name).unlink(missing_ok=True)
     data_file(out / DATA, assembly.positions, assembly.radii, assembly.cell, opts["density"])
@@ -156,13 +171,24 @@ def write_lammps_triaxial(assembly, kind: str, folder, *, pressure: float, axial
                           axial_strain=a, record_every=opts["record_every"],
                           damping=opts["damping"], dt=dt, gain=gain, skin=SKIN * mean_r,
                           frictionless=consolidation == "frictionless",
-                          positions_every_record=assembly.size <= SNAPSHOT_GRAINS)
+                          positions_every_record=assembly.size <= SNAPSHOT_GRAINS,
+                          restart_steps=restart_steps)
     (out / INPUT).write_text(script)
-    record_steps = max(1, int(round(opts["record_every"] / rate / dt)))
-    steps = -(-int(math.ceil(a / rate / dt - 1e-9)) // record_steps) * record_steps
+    (out / RESUME).unlink(missing_ok=True)
+    for old in out.glob(f"{RESTART_PREFIX}*.restart"):
+        old.unlink()
+    if restart_steps is not None:
+        plugin = next((line for line in pairs.law if line.startswith("plugin load")), None)
+        (out / RESUME).write_text(resume_script(
+            plugin=plugin, law_outputs=pairs.outputs, normal_law=pairs.normal, kind=kind,
+            pressure=p, rate=rate, axial_strain=a, record_every=opts["record_every"],
+            damping=opts["damping"], dt=dt, gain=gain, skin=SKIN * mean_r,
+            positions_every_record=assembly.size <= SNAPSHOT_GRAINS,
+            restart_steps=restart_steps))
     options = dict(kind=kind, pressure=p, axial_strain=a, consolidation=consolidation,
                    failure_slope=failure_slope, cell=cell, rate=rate, dt=dt, gain=gain,
-                   steps=steps, record_steps=record_steps, pair_style=pairs.name,
+                   steps=steps, record_steps=record_steps, restart_steps=restart_steps,
+                   pair_style=pairs.name,
                    law_outputs=pairs.outputs, grains=assembly.size, **opts)
     (out / OPTIONS).write_text(json.dumps(options, indent=1))
     return LammpsFiles(out, out / INPUT, out / DATA, steps, record_steps, pairs.name)
@@ -179,15 +205,21 @@ def _records(folder: Path) -> np.ndarray:
         values = line.split()
         if len(values) == len(RECORD_COLUMNS):  # a line being written is skipped
             rows.append([float(v) for v in values])
-    return np.array(rows).reshape(-1, len(RECORD_COLUMNS))
+    rows = np.array(rows).reshape(-1, len(RECORD_COLUMNS))
+    # a run that starts again (a segment, a resumed run) repeats its first step's record: the
+    # first one of each step is the record of the run that reached it
+    _, first = np.unique(rows[:, 0], return_index=True)
+    return rows[np.sort(first)]
 
 
 def run_lammps(files: LammpsFiles, *, ranks: int = 1, progress=None,
-               max_time: float | None = None) -> str:
+               max_time: float | None = None, arguments=()) -> str:
     """Run the files' input script on ``ranks`` MPI ranks; ``progress(done, total)`` hears the
     records as they come (and ``progress.phase(text)`` the stages), ``max_time`` seconds stop
     the run. Returns how it ended ("completed" or why it stopped)."""
     command = files.command(ranks)
+    command[command.index(INPUT)] = files.input.name
+    command += list(arguments)
     total = files.steps // files.record_steps
     phase = getattr(progress, "phase", None) or (lambda text: None)
     phase(f"LAMMPS on {ranks} rank{'s' if ranks > 1 else ''}: consolidation")
@@ -237,16 +269,23 @@ def _positions(folder: Path, n: int) -> list:
     if not path.exists():
         return []
     lines = path.read_text().splitlines()
-    out, k = [], 0
+    out, k, step, seen = [], 0, None, set()
     while k < len(lines):
-        if lines[k].startswith("ITEM: ATOMS"):
+        if lines[k].startswith("ITEM: TIMESTEP"):
+            if k + 1 >= len(lines) or not lines[k + 1].strip():    # being written
+                break
+            step = int(lines[k + 1])
+            k += 2
+        elif lines[k].startswith("ITEM: ATOMS"):
             block = lines[k + 1:k + 1 + n]
             if len(block) < n:
                 break
-            table = np.array([[float(v) for v in row.split()] for row in block])
-            x = np.empty((n, 3))
-            x[table[:, 0].astype(int) - 1] = table[:, 1:4]
-            out.append(x)
+            if step not in seen:    # a run that starts again repeats its first dump
+                seen.add(step)
+                table = np.array([[float(v) for v in row.split()] for row in block])
+                x = np.empty((n, 3))
+                x[table[:, 0].astype(int) - 1] = table[:, 1:4]
+                out.append(x)
             k += 1 + n
         else:
             k += 1
@@ -279,8 +318,9 @@ def read_lammps_triaxial(assembly, folder, *, ended: str | None = None,
     Rows are the records (row 0: the consolidated sample). Stress: LAMMPS's virial pressure
     tensor (no kinetic part; compression positive as ours); strain: the logarithmic strain of
     the box since the shear started, ``-ln(L/L₀)`` per axis; the peak by our running-mean rule;
-    ``coordination`` ``2 N_c/N`` of the overlapping pairs (``compute contact/atom``), without
-    rattlers alike. The contacts of a record are rebuilt from its centres (:func:`build`:
+    ``coordination`` ``2 N_c/N``, without rattlers alike, of the force-carrying contacts (N > 0)
+    the exported pair style counts (of the overlapping pairs with LAMMPS's own styles, whose
+    open contacts carry no force); the sliding fraction over the same contacts. The contacts of a record are rebuilt from its centres (:func:`build`:
     normal forces from the overlaps, tangential forces not read back); samples above
     ``SNAPSHOT_GRAINS`` grains keep centres and contacts at the last record only (the others
     hold an empty snapshot). ``sliding_fraction`` is NaN where the pair style offers no
@@ -377,14 +417,60 @@ def _message(folder: Path, opts: dict, ended: str, ranks) -> str:
              "box servo fix deform/pressure (proportional, gain "
              f"{opts['gain']:.3g}/time on the relative stress error, rate bounded as ours)",
              "Cundall damping on the half-step velocity"]
-    if opts["law_outputs"]:    # the exported style: our skin and the affine term L l
-        parts.append("Z and the sliding fraction count overlapping pairs (a dilatant contact "
-                     "pushing with a positive gap is left out)")
-    else:
+    if opts["law_outputs"]:
+        parts.append("the affine part of the relative motion in the tangential history one step "
+                     "after ours (when fix deform's remap has moved the centres)")
+    if not opts["law_outputs"]:
         parts += ["affine part of the relative velocity not in the tangential history "
                   "(remap x)", "a contact's history erased when it opens (ours: kept within "
                   "the skin)", "no sliding fraction or dissipation from this pair style"]
     return "; ".join(parts)
+
+
+def resume_lammps_triaxial(assembly, folder, *, restart=None, ranks: int = 1, progress=None,
+                           max_time: float | None = None) -> TriaxialResult:
+    """Go on with the shear of a LAMMPS run written with ``restart_every`` from one of its
+    restart files (the last one by default): the records and centres after its step are
+    dropped, ``in.resume`` runs on ``ranks`` ranks, and the result is read as
+    :func:`read_lammps_triaxial` reads it. On one rank the result equals, bit for bit, that of
+    the run that wrote the file had it gone on (``docs/assembly.md``, "LAMMPS")."""
+    folder = Path(folder)
+    if not (folder / RESUME).exists():
+        raise FrictionRulesError(f"folder = {str(folder)!r} violates: a run written with "
+                                 "restart_every (no in.resume)")
+    check_lammps_options(assembly, "axisymmetric", "rectangular", ranks)
+    files = sorted(folder.glob(f"{RESTART_PREFIX}*.restart"),
+                   key=lambda f: int(f.name[len(RESTART_PREFIX):-len(".restart")]))
+    chosen = Path(restart) if restart is not None else (files[-1] if files else None)
+    if chosen is None or not (folder / chosen.name).exists():
+        raise FrictionRulesError(f"restart = {restart!r} violates: a restart file of the shear "
+                                 f"in {folder}")
+    step = int(chosen.name[len(RESTART_PREFIX):-len(".restart")])
+    _truncate(folder, step)
+    opts = json.loads((folder / OPTIONS).read_text())
+    files_ = LammpsFiles(folder, folder / RESUME, folder / DATA, opts["steps"],
+                         opts["record_steps"], opts["pair_style"])
+    ended = run_lammps(files_, ranks=ranks, progress=progress, max_time=max_time,
+                       arguments=["-var", "restart", chosen.name])
+    return read_lammps_triaxial(assembly, folder, ended=ended, ranks=ranks)
+
+
+def _truncate(folder: Path, step: int) -> None:
+    """Records and dumps after ``step`` dropped (what a resumed run writes again)."""
+    path = folder / RECORDS
+    kept = [line for line in path.read_text().splitlines()
+            if line.startswith("#") or not line.strip() or int(line.split()[0]) <= step]
+    path.write_text("\n".join(kept) + "\n")
+    dump = folder / POSITIONS
+    if dump.exists():
+        lines = dump.read_text().splitlines(keepends=True)
+        cut = next((k for k in range(len(lines) - 1) if lines[k].startswith("ITEM: TIMESTEP")
+                    and int(lines[k + 1]) > step), len(lines))
+        dump.write_text("".join(lines[:cut]))
+    stages = folder / STAGES
+    if stages.exists():
+        stages.write_text("".join(line for line in stages.read_text().splitlines(keepends=True)
+                                  if "shear done" not in line))
 
 
 def lammps_triaxial(assembly, kind: str, *, pressure: float, axial_strain: float, ranks: int,
