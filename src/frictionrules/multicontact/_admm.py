@@ -9,7 +9,8 @@ the iteration. :math:`W + (\rho + \eta) I` is factorized once per value of :math
 LU after a minimum-degree ordering of the contacts, :mod:`._ordering`; dense LU on small
 problems; kept on the frame, so that a value of :math:`\rho` met again, or another ADMM stage
 of ``"auto"``, costs no new factorization), so an iteration costs two triangular solves, one
-product with W and O(nc), the latter compiled (:mod:`._admm_steps`).
+product with W where Siconos' error is measured (at intervals, :attr:`ADMMOptions.max_check_interval`)
+and O(nc), the latter compiled (:mod:`._admm_steps`).
 
 :math:`\rho` starts from the spectral rule, or small where the problem is in the all-stick
 regime: when the minimizer of the regularized quadratic, :math:`-(W + \rho_s I)^{-1} q`, lies

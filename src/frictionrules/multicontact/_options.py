@@ -155,8 +155,8 @@ class ADMMOptions:
         y^{k+1} = P_K(x^{k+1} - z^k/\rho), \quad z^{k+1} = z^k - \rho(x^{k+1} - y^{k+1}).
 
     The factorization of :math:`W + (\rho + \eta) I` is computed once per value of
-    :math:`\rho`: an iteration costs one pair of triangular solves, one product with W (the
-    error) and O(nc).
+    :math:`\rho`: an iteration costs one pair of triangular solves and O(nc), and one
+    product with W where Siconos' error is measured (``max_check_interval``).
 
     Attributes
     ----------
@@ -202,7 +202,8 @@ class ADMMOptions:
         triangular solves on small problems) is evaluated where convergence is possible (the
         fixed-point residual below ``tol`` relative to :math:`\max(|q|, |y|)`), and otherwise
         at intervals predicted from the observed linear rate (half the predicted number of
-        iterations to ``tol``), at most this many iterations apart (1: every iteration), as
+        iterations to ``tol``), at most this many iterations apart (one more where the
+        iteration due was an extrapolation dropped; 1: every iteration), as
         NSGS does (:attr:`NSGSOptions.max_check_interval`). The run's error history holds the
         iterations where it was measured. Only where the iteration runs compiled (no
         ``callback`` nor handover).
