@@ -4,6 +4,7 @@ Usage (one command, from the repository root)::
 
     python benchmarks/admm_iteration.py [--fclib DIR ...] [--only SUBSTRING]
                                         [--pinocchio-python PATH] [--target 1e-8] [--rounds 3]
+                                        [--baseline OTHER_CHECKOUT]
 
 For each file (``../shared/fclib``, ``../shared/fclib-large`` by default) and each solver, two
 measures, both CPU seconds of the solver call on one thread (``time.thread_time``):
@@ -68,8 +69,8 @@ def worker(path: str, target: float) -> None:
                       "reason": s.reason}))
 
 
-def ours(path: Path, target: float) -> dict:
-    out = subprocess.run([sys.executable, __file__, "--worker", str(path), repr(target)], capture_output=True,
+def ours(path: Path, target: float, script: str = __file__) -> dict:
+    out = subprocess.run([sys.executable, script, "--worker", str(path), repr(target)], capture_output=True,
                          text=True, env=dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1"))
     if out.returncode != 0:
         return {"iterations": 0, "error": float("nan"), "cpu": float("nan"), "marginal": float("nan"),
@@ -99,6 +100,8 @@ def main(argv=None) -> int:
     ap.add_argument("--target", type=float, default=1e-8, help="target error (default 1e-8)")
     ap.add_argument("--rounds", type=int, default=3, help="interleaved rounds per file (default 3)")
     ap.add_argument("--out", default="admm_iteration", help="name of the table in benchmarks/results/")
+    ap.add_argument("--baseline", help="another checkout of the library (its sources and this benchmark): its ADMM "
+                                       "timed too, interleaved (baseline, ours, Pinocchio), in 'before' columns")
     ap.add_argument("--worker", nargs=2, help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.worker:
@@ -125,8 +128,10 @@ def main(argv=None) -> int:
             if problem.nc <= 16:            # the compiled small path: no sparse iteration to time
                 continue
             data = _peers.save_problem(problem, tmp / "problem.npz")
-            a, b = [], []
+            a, b, c = [], [], []
             for _ in range(args.rounds):
+                if args.baseline:
+                    c.append(ours(f, args.target, str(Path(args.baseline) / "benchmarks" / "admm_iteration.py")))
                 a.append(ours(f, args.target))
                 if pin:
                     b.append(pinocchio(pin, problem, data, tmp, args.target))
@@ -140,16 +145,20 @@ def main(argv=None) -> int:
                 it = runs[-1]["iterations"]
                 return [str(it), f"{runs[-1]['error']:.1e}", f"{1e3 * med(runs, 'cpu'):.2f}",
                         f"{1e6 * med(runs, 'cpu') / max(it, 1):.1f}", f"{1e6 * med(runs, 'marginal'):.1f}"]
-            rows.append([f.stem[:32], problem.nc, problem.W.nnz] + cells(a) + cells(b))
+            before = ([str(c[-1]["iterations"]), f"{c[-1]['error']:.1e}", f"{1e6 * med(c, 'marginal'):.1f}"]
+                      if args.baseline else [])
+            rows.append([f.stem[:32], problem.nc, problem.W.nnz] + before + cells(a) + cells(b))
             print(rows[-1], flush=True)
     load_end = os.getloadavg()
-    header = ["file", "contacts", "nnz(W)", "ours: iterations", "error", "CPU ms", "µs/iteration", "marginal µs/it",
+    header = ["file", "contacts", "nnz(W)"] + (["before: iterations", "error", "marginal µs/it"] if args.baseline
+                                               else []) + ["ours: iterations", "error", "CPU ms", "µs/iteration", "marginal µs/it",
               "Pinocchio: iterations", "error", "CPU ms", "µs/iteration", "marginal µs/it"]
     notes = (f"Target {args.target:.0e} (our Siconos error of each answer). CPU seconds of the solver call on one "
              f"thread, median of {args.rounds} interleaved rounds (each a median of repetitions); µs/iteration = "
              f"CPU / iterations of the run to the target; marginal = (time of {K2} iterations - time of {K1}) / "
              f"{K2 - K1}, tolerance zero. Load average {load_start[0]:.2f} at the start, {load_end[0]:.2f} at the "
-             f"end, on {os.cpu_count()} cores.")
+             f"end, on {os.cpu_count()} cores." + (f" 'before': the checkout {args.baseline}, run interleaved "
+                                                     "with ours and Pinocchio." if args.baseline else ""))
     write_table(args.out, "ADMM per iteration, ours beside Pinocchio", header, rows, notes)
     return 0
 

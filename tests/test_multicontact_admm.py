@@ -344,11 +344,12 @@ def test_dense_factors_rebuild_lapacks_lu():
                                             ("local_problem_test.hdf5", 0)])
 def test_compiled_loop_is_the_python_loop(name, anderson):
     """ADMM's iterations in one compiled loop (no callback) and one by one in Python (a
-    callback that never stops the run): the same errors at every iteration (the compiled
-    error sums as the frame's), the same answer."""
+    callback that never stops the run): with the error measured at every iteration
+    (``max_check_interval=1``), the same errors at every iteration (the compiled error sums as
+    the frame's), the same answer."""
     from frictionrules import ADMMOptions, read_fclib, solve
     p = read_fclib(FCLIB / name)
-    opts = ADMMOptions(anderson=anderson)
+    opts = ADMMOptions(anderson=anderson, max_check_interval=1)
     seen = []
     a = solve(p, method="admm", tol=1e-8, options=opts)
     b = solve(p, method="admm", tol=1e-8, options=opts, callback=lambda info: seen.append(info.error))
@@ -357,3 +358,63 @@ def test_compiled_loop_is_the_python_loop(name, anderson):
     np.testing.assert_allclose(a.history, seen, rtol=1e-9)
     np.testing.assert_array_equal(a.history_iterations, b.history_iterations)
     np.testing.assert_allclose(a.r, b.r, rtol=1e-9, atol=1e-12 * np.abs(b.r).max())
+
+
+@needs_fclib
+@pytest.mark.parametrize("name", ["Capsules-i125-1213.hdf5", "Spheres-i099-356-679.hdf5", "local_problem_test.hdf5",
+                                  "Box_Stacks-i0122-82-5.hdf5"])
+def test_error_measured_at_intervals_is_the_same_run(name):
+    """With the error measured only at some iterations (the default ``max_check_interval``)
+    the iterates are the same as with it measured at every one (the measure does not feed the
+    iteration): the errors recorded are those of the every-iteration run at the same
+    iterations, at most ``max_check_interval`` (+ 1) apart, and the run stops at the first measured
+    iteration at or after the every-iteration run's stop (here within 8)."""
+    from frictionrules import ADMMOptions, read_fclib, solve
+    p = read_fclib(FCLIB / name)
+    every = solve(p, method="admm", tol=1e-8, options=ADMMOptions(max_check_interval=1))
+    some = solve(p, method="admm", tol=1e-8)
+    assert every.converged and some.converged
+    k = some.history_iterations
+    # one more where the iteration due was an extrapolation dropped (then the plain step runs alone)
+    assert k[0] == 1 and np.all(np.diff(k) >= 1) and np.all(np.diff(k) <= ADMMOptions().max_check_interval + 1)
+    assert len(k) < len(every.history_iterations)
+    by_iteration = dict(zip(every.history_iterations.tolist(), every.history))
+    measured = [(e, by_iteration[i]) for i, e in zip(k.tolist(), some.history) if i <= every.iterations]
+    assert len(measured) == np.count_nonzero(k <= every.iterations)     # no dropped step measured
+    np.testing.assert_allclose(*np.array(measured).T, rtol=1e-12)
+    assert every.iterations <= some.iterations <= every.iterations + ADMMOptions().max_check_interval
+
+
+@needs_fclib
+def test_error_measured_at_the_last_iteration_at_tolerance_zero():
+    """At tolerance zero the error is measured at most ``max_check_interval`` iterations apart
+    and at the last iteration, whose error the result reports."""
+    from frictionrules import ADMMOptions, read_fclib, solve
+    p = read_fclib(FCLIB / "Spheres-i099-356-679.hdf5")
+    s = solve(p, method="admm", tol=0.0, max_iter=120, options=ADMMOptions(max_check_interval=6))
+    k = s.history_iterations
+    assert k[-1] == 120 and s.iterations == 120
+    assert np.all(np.diff(k) <= 6 + 1) and len(k) < 120
+
+
+def test_rho_change_stays_in_its_band():
+    """The residuals' balance (ratio 10) asks +1 or -1; a step leaving [lo, hi] is refused,
+    a step from outside towards the band is kept."""
+    limits = np.zeros(10)
+    limits[2], limits[7], limits[8], limits[9] = 10.0, 1.0, 8.0, 2.0
+    assert S.rho_change(100.0, 1.0, 2.0, limits) == 1
+    assert S.rho_change(1.0, 100.0, 2.0, limits) == -1
+    assert S.rho_change(5.0, 1.0, 2.0, limits) == 0
+    assert S.rho_change(100.0, 1.0, 8.0, limits) == 0         # 16 > hi
+    assert S.rho_change(1.0, 100.0, 1.0, limits) == 0         # 0.5 < lo
+    assert S.rho_change(1.0, 100.0, 64.0, limits) == -1       # above the band, towards it
+    assert S.rho_change(100.0, 1.0, 0.25, limits) == 1        # below the band, towards it
+
+
+@pytest.mark.parametrize("kw, name", [({"max_check_interval": 0}, "max_check_interval"),
+                                      ({"rho_min": -1.0}, "rho_min"),
+                                      ({"rho_min": 1.0, "rho_max": 0.5}, "rho_max")])
+def test_admm_options_name_the_bad_argument(kw, name):
+    from frictionrules import ADMMOptions, FrictionRulesError
+    with pytest.raises(FrictionRulesError, match=name):
+        ADMMOptions(**kw)

@@ -9,7 +9,8 @@ the iteration. :math:`W + (\rho + \eta) I` is factorized once per value of :math
 LU after a minimum-degree ordering of the contacts, :mod:`._ordering`; dense LU on small
 problems; kept on the frame, so that a value of :math:`\rho` met again, or another ADMM stage
 of ``"auto"``, costs no new factorization), so an iteration costs two triangular solves, one
-product with W and O(nc), the latter compiled (:mod:`._admm_steps`).
+product with W where Siconos' error is measured (at intervals, :attr:`ADMMOptions.max_check_interval`)
+and O(nc), the latter compiled (:mod:`._admm_steps`).
 
 :math:`\rho` starts from the spectral rule, or small where the problem is in the all-stick
 regime: when the minimizer of the regularized quadratic, :math:`-(W + \rho_s I)^{-1} q`, lies
@@ -289,18 +290,21 @@ def run_admm(fr: _Frame, r, max_iter: int, mon: _Monitor, opts: ADMMOptions):
         np.empty(0), np.empty(0), np.empty((0, 2 * n)), np.empty((0, 2 * n)), np.empty((0, 0)),
         np.zeros(2, np.int64))
     limits = np.array([mon.tol, fr.r_bound, opts.ratio_primal_dual, max_iter, opts.rho_update_every,
-                       opts.anderson_pause], dtype=float)
+                       opts.anderson_pause, opts.max_check_interval, opts.rho_min * L, opts.rho_max * L, step],
+                      dtype=float)
+    next_check, last_measured, last_err = 1, 0, np.inf
     errs, its = np.empty(COMPILED_BATCH), np.empty(COMPILED_BATCH, np.int64)
     while it < max_iter:
         if compiled and factor.arrays is not None and factor.kept is None and factor.refine is not None:
             x, v, safe_v, best_r, y_last = x.copy(), v.copy(), safe_v.copy(), best_r.copy(), np.empty(n)
-            ints = np.array([it, last_update, paused_until, extrapolated], dtype=np.int64)
-            floats = np.array([safe_res, best_err])
+            ints = np.array([it, last_update, paused_until, extrapolated, next_check, last_measured], dtype=np.int64)
+            floats = np.array([safe_res, best_err, last_err])
             count, change = S.admm_loop(*factor.arrays, factor.refine, *_compiled_w(fr), q, mu, d, fr.norm_q,
                                         rho, eta, x, v, s, safe_v, y_last, best_r, *memory, ints, floats, limits,
                                         errs, its)
             it, last_update, paused_until, extrapolated = int(ints[0]), int(ints[1]), int(ints[2]), bool(ints[3])
             safe_res, best_err = float(floats[0]), float(floats[1])
+            next_check, last_measured, last_err = int(ints[4]), int(ints[5]), float(floats[2])
             if count and mon.record_many("admm", its[:count], y_last, errs[:count]):
                 return y_last, int(its[count - 1])
             if change:
@@ -324,10 +328,9 @@ def run_admm(fr: _Frame, r, max_iter: int, mon: _Monitor, opts: ADMMOptions):
         if mon.record("admm", it, y_new, err):
             return y_new.copy(), it
         if it - last_update >= opts.rho_update_every and max(primal, dual) > 0:
-            change = step if primal > opts.ratio_primal_dual * dual else (
-                1.0 / step if dual > opts.ratio_primal_dual * primal else 1.0)
-            if change != 1.0:
-                level += 1 if change > 1.0 else -1
+            change = S.rho_change(primal, dual, rho, limits)
+            if change != 0:
+                level += change
                 rho = rho0 * step ** level
                 factor = _factor(fr, rho + eta)
                 last_update = it

@@ -150,16 +150,16 @@ def factor_solve(lp, li, lx, up, ui, ux, ud, rows, cols, triples, refine, shift,
 
 @njit(cache=True)
 def admm_iteration(lp, li, lx, up, ui, ux, ud, rows, cols, triples, refine, shift, wp, wi, wx, blocks,
-                   q, mu, dil, rho, eta, x, v, s, norm_q):
+                   q, mu, dil, rho, eta, x, v, s, norm_q, measure):
     r"""One whole iteration from ``v = (y, z)`` and the last x-step's ``x``: the x-step
     :math:`x_{new} = (W + (\rho + \eta) I)^{-1}(-(q + s) + \rho y + \eta x + z)`
     (:func:`x_step_rhs`, :func:`factor_solve`; ``shift`` :math:`= \rho + \eta`), then
-    :func:`y_z_steps` and the error of the new y (:func:`residual_error`).
-    Returns ``(x_new, tv, res, primal, dual, err)``."""
+    :func:`y_z_steps` and, when ``measure``, the error of the new y (:func:`residual_error`;
+    NaN otherwise). Returns ``(x_new, tv, res, primal, dual, err)``."""
     b = x_step_rhs(q, v[:q.size], x, v[q.size:], mu, dil, rho, eta, s)
     x_new = factor_solve(lp, li, lx, up, ui, ux, ud, rows, cols, triples, refine, shift, wp, wi, wx, blocks, b)
     tv, res, primal, dual = y_z_steps(x_new, x, v, mu, rho, eta)
-    err = residual_error(wp, wi, wx, blocks, q, mu, dil, tv[:q.size], norm_q)
+    err = residual_error(wp, wi, wx, blocks, q, mu, dil, tv[:q.size], norm_q) if measure else np.nan
     return x_new, tv, res, primal, dual, err
 
 
@@ -408,35 +408,64 @@ def csr_factors(L, U):
 
 
 @njit(cache=True)
+def rho_change(primal, dual, rho, limits):
+    r"""The change of :math:`\rho`'s level asked by the residuals' balance: +1 (:math:`\rho`
+    times ``limits[9]``) when the primal residual exceeds ``limits[2]`` times the dual one,
+    -1 in the opposite case, 0 otherwise and where the new :math:`\rho` would leave
+    ``[limits[7], limits[8]]`` (a change from outside towards it is kept)."""
+    lo, hi, step = limits[7], limits[8], limits[9]
+    change = 1 if primal > limits[2] * dual else (-1 if dual > limits[2] * primal else 0)
+    if change > 0 and rho * step > hi and rho >= lo:
+        return 0
+    if change < 0 and rho / step < lo and rho <= hi:
+        return 0
+    return change
+
+
+@njit(cache=True)
 def admm_loop(lp, li, lx, up, ui, ux, ud, rows, cols, triples, refine, wp, wi, wx, blocks, q, mu, dil, norm_q,
               rho, eta, x, v, s, safe_v, y, best_r, prev_v, prev_tv, dG, dF, gram, astate, ints, floats,
               limits, errs, its):
     r"""ADMM's iterations (:func:`._admm.run_admm`) at one value of :math:`\rho`, compiled,
     each by :func:`admm_iteration`, until one of: ``limits[3]`` (max_iter) iterations in all,
-    ``errs.size`` iterations recorded in this call, an error at most ``limits[0]`` (tol), not
-    finite, or a new y beyond ``limits[1]`` in norm (the run stops), or a change of
-    :math:`\rho` asked by the residuals' balance (``limits[2]``: the ratio; ``limits[4]``: at
-    most every this many iterations; the caller refactorizes).
+    ``errs.size`` iterations in this call, an error at most ``limits[0]`` (tol), not finite,
+    or a new y beyond ``limits[1]`` in norm (the run stops), or a change of :math:`\rho` asked
+    by the residuals' balance (:func:`rho_change`; ``limits[4]``: at most every this many
+    iterations; the caller refactorizes).
+
+    Siconos' error is measured only at some iterations: where the fixed-point residual
+    :math:`|T(v) - v|` is at most tol times :math:`\max(|q|, |y|)` (convergence is possible),
+    at the iteration ``ints[4]`` chosen after the last measure by
+    :func:`._kernels.check_interval` from the last two measures (at most ``limits[6]``
+    iterations later), at the last iteration of the call or of the run, and where y leaves
+    the bound. The best y is the best of those measured.
 
     The run's state is read and written in place: ``x``, ``v = (y, z)``, ``s``, the last
     plain ``safe_v``, the last y and the best one (``y``, ``best_r``), Anderson's memory
     (:func:`anderson_update`; none when ``dG`` has no row; ``limits[5]``: its pause after a
     dropped extrapolation), ``ints`` = (iteration, iteration of the last change of
-    :math:`\rho`, end of the pause, whether v is extrapolated), ``floats`` = (residual of
-    ``safe_v``, best error). The errors and iteration numbers recorded go to ``errs`` and
-    ``its``. Returns ``(recorded, change)``: change +1 (raise :math:`\rho`), -1 (lower it),
-    0 (none)."""
+    :math:`\rho`, end of the pause, whether v is extrapolated, next measure, iteration of the
+    last measure), ``floats`` = (residual of ``safe_v``, best error, last error measured).
+    The errors measured and their iteration numbers go to ``errs`` and ``its``. Returns
+    ``(recorded, change)``: change +1 (raise :math:`\rho`), -1 (lower it), 0 (none); the last
+    iteration of the call is recorded unless it was a dropped extrapolation or the call ends
+    on a change of :math:`\rho`."""
     n = q.size
     it, last_update, paused_until, extrapolated = ints[0], ints[1], ints[2], ints[3] != 0
-    safe_res, best_err = floats[0], floats[1]
-    tol, r_bound, ratio = limits[0], limits[1], limits[2]
+    next_check, last_it = ints[4], ints[5]
+    safe_res, best_err, last_err = floats[0], floats[1], floats[2]
+    tol, r_bound = limits[0], limits[1]
     max_iter, every, pause = np.int64(limits[3]), np.int64(limits[4]), np.int64(limits[5])
+    max_interval = np.int64(limits[6])
+    first = it
+    hist_err, hist_it = np.empty(2), np.empty(2, np.int64)
     count, change = 0, 0
-    while it < max_iter and count < errs.size:
+    while it < max_iter and it - first < errs.size:
         it += 1
+        measure = it >= next_check or it >= max_iter or it - first >= errs.size
         x_new, tv, res, primal, dual, err = admm_iteration(lp, li, lx, up, ui, ux, ud, rows, cols, triples, refine,
                                                            rho + eta, wp, wi, wx, blocks, q, mu, dil, rho,
-                                                           eta, x, v, s, norm_q)
+                                                           eta, x, v, s, norm_q, measure)
         if extrapolated and res > safe_res:     # the extrapolation did not pay: the plain step
             astate[:] = 0
             v[:] = safe_v
@@ -445,15 +474,23 @@ def admm_loop(lp, li, lx, up, ui, ux, ud, rows, cols, triples, refine, wp, wi, w
             continue
         x[:] = x_new
         y[:] = tv[:n]
-        if err < best_err:
-            best_r[:] = y
-            best_err = err
-        errs[count], its[count] = err, it
-        count += 1
-        if err <= tol or not np.isfinite(err) or np.sqrt(np.dot(y, y)) > r_bound:
-            break
+        y_norm = np.sqrt(np.dot(y, y))
+        if not measure and (res <= tol * max(norm_q, y_norm) or y_norm > r_bound or not np.isfinite(res)):
+            measure = True
+            err = residual_error(wp, wi, wx, blocks, q, mu, dil, y, norm_q)
+        if measure:
+            if err < best_err:
+                best_r[:] = y
+                best_err = err
+            errs[count], its[count] = err, it
+            count += 1
+            if err <= tol or not np.isfinite(err) or y_norm > r_bound:
+                break
+            hist_err[0], hist_it[0], hist_err[1], hist_it[1] = last_err, last_it, err, it
+            next_check = it + K.check_interval(hist_err, hist_it, 2 if last_it > 0 else 1, err, tol, max_interval)
+            last_err, last_it = err, it
         if it - last_update >= every and max(primal, dual) > 0:
-            change = 1 if primal > ratio * dual else (-1 if dual > ratio * primal else 0)
+            change = rho_change(primal, dual, rho, limits)
             if change != 0:
                 last_update = it
                 astate[:] = 0
@@ -467,5 +504,6 @@ def admm_loop(lp, li, lx, up, ui, ux, ud, rows, cols, triples, refine, wp, wi, w
         if change != 0:
             break
     ints[0], ints[1], ints[2], ints[3] = it, last_update, paused_until, np.int64(extrapolated)
-    floats[0], floats[1] = safe_res, best_err
+    ints[4], ints[5] = next_check, last_it
+    floats[0], floats[1], floats[2] = safe_res, best_err, last_err
     return count, change

@@ -155,8 +155,8 @@ class ADMMOptions:
         y^{k+1} = P_K(x^{k+1} - z^k/\rho), \quad z^{k+1} = z^k - \rho(x^{k+1} - y^{k+1}).
 
     The factorization of :math:`W + (\rho + \eta) I` is computed once per value of
-    :math:`\rho`: an iteration costs one pair of triangular solves, one product with W (the
-    error) and O(nc).
+    :math:`\rho`: an iteration costs one pair of triangular solves and O(nc), and one
+    product with W where Siconos' error is measured (``max_check_interval``).
 
     Attributes
     ----------
@@ -176,6 +176,12 @@ class ADMMOptions:
         one :math:`|\rho\,\Delta y + \eta\,\Delta x|_\infty`.
     rho_update_every : int
         Iterations at least between two changes of :math:`\rho` (each one refactorizes).
+    rho_min, rho_max : float
+        The residuals' balance does not move :math:`\rho / L` below ``rho_min`` nor above
+        ``rho_max`` (Pinocchio clamps :math:`\rho` to [1e-6, 1e6]). Past the solution the
+        balance drifts: KaplasTower (5 iterations to 1e-8) then halved :math:`\rho` every
+        ``rho_update_every`` iterations, 25 factorizations in 120 iterations run at
+        tolerance zero (7 with the band; PerioBox 12 and 7).
     anderson : int
         Memory of the Anderson acceleration of the fixed-point map on :math:`(y, z)`
         (0: none). An accelerated step is kept only when it lowers the fixed-point residual.
@@ -191,6 +197,16 @@ class ADMMOptions:
     power_iterations : int
         Power iterations estimating L (only its order matters: 10 are within 1 % of 30 on
         KaplasTower).
+    max_check_interval : int
+        Siconos' error (one product with W, the costliest part of an iteration after the
+        triangular solves on small problems) is evaluated where convergence is possible (the
+        fixed-point residual below ``tol`` relative to :math:`\max(|q|, |y|)`), and otherwise
+        at intervals predicted from the observed linear rate (half the predicted number of
+        iterations to ``tol``), at most this many iterations apart (one more where the
+        iteration due was an extrapolation dropped; 1: every iteration), as
+        NSGS does (:attr:`NSGSOptions.max_check_interval`). The run's error history holds the
+        iterations where it was measured. Only where the iteration runs compiled (no
+        ``callback`` nor handover).
     """
 
     eta: float = 1e-6
@@ -202,11 +218,16 @@ class ADMMOptions:
     anderson: int = 5
     anderson_pause: int = 10
     power_iterations: int = 10
+    max_check_interval: int = 8
+    rho_min: float = 1e-6
+    rho_max: float = 1.0
 
     def __post_init__(self):
-        _check(self, positive=("eta", "rho_power_step"), nonnegative=("rho_power", "rho_stick"),
-               integers=("rho_update_every", "anderson", "anderson_pause", "power_iterations"))
+        _check(self, positive=("eta", "rho_power_step"), nonnegative=("rho_power", "rho_stick", "rho_min"),
+               integers=("rho_update_every", "anderson", "anderson_pause", "power_iterations"),
+               counts=("max_check_interval",))
         check_scalar("ADMMOptions.ratio_primal_dual", self.ratio_primal_dual, lo=1.0)
+        check_scalar("ADMMOptions.rho_max", self.rho_max, lo=self.rho_min)
 
 
 @dataclass(frozen=True)

@@ -326,7 +326,8 @@ class Solution:
         ``"converged"`` has ``converged`` true.
     history : array
         Error after the iterations ``history_iterations`` (every iteration for ``newton`` and
-        ``prox``; the sweeps where NSGS evaluated it).
+        ``prox``; the sweeps where NSGS evaluated it; for ``admm``, the iterations where it
+        was measured, :attr:`ADMMOptions.max_check_interval`).
     history_iterations : array of int
     method : str
         The method that ran (for ``"auto"``, the stages joined by ``+``, e.g. ``"nsgs+prox"``).
