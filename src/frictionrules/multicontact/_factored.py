@@ -113,9 +113,9 @@ def factored_nsgs(tree, off, Jp, Bp, dofadr, dofnum, D, q, mu, dil, r, v, u, tol
     measure after the sweeps where the relative change of ``r`` is below ``tol``, at the
     intervals of :func:`._kernels.check_interval` and after the last). ``r`` updated in place,
     ``v`` must be :func:`impulse_velocity` of ``r`` on entry and is on return (kept by the
-    updates, computed anew before each check of the error, which is then evaluated once: a
-    pass over the blocks instead of a second evaluation), ``u`` holds ``J v + q`` at the last
-    check. Returns ``(sweeps, error, evaluations)``."""
+    updates, computed anew where a check finds the error at most ``tol`` and after the last
+    sweep, and the error evaluated again), ``u`` holds ``J v + q`` at the last check. Returns ``(sweeps, error,
+    evaluations)``."""
     nc = mu.size
     b = np.empty(3)
     err = np.inf
@@ -137,8 +137,10 @@ def factored_nsgs(tree, off, Jp, Bp, dofadr, dofnum, D, q, mu, dil, r, v, u, tol
         light = np.sqrt(dr2 / rr) if rr > 0.0 else np.sqrt(dr2)
         if it < next_check and light > tol and it < max_iter:
             continue
-        impulse_velocity(tree, off, Bp, dofadr, dofnum, r, v)      # anew: no drift from the updates
         err = _cone_error(tree, off, Jp, dofadr, dofnum, v, q, u, r, mu, dil, norm_q)
+        if err <= tol or it == max_iter:      # v anew (no drift from the updates), the error again
+            impulse_velocity(tree, off, Bp, dofadr, dofnum, r, v)
+            err = _cone_error(tree, off, Jp, dofadr, dofnum, v, q, u, r, mu, dil, norm_q)
         hist_err[nh] = err
         hist_it[nh] = it
         nh += 1
@@ -177,8 +179,10 @@ def factored_law_nsgs(tree, off, Jp, Bp, dofadr, dofnum, D, q, fn, rows_k, rows_
         light = np.sqrt(dr2 / rr) if rr > 0.0 else np.sqrt(dr2)
         if it < next_check and light > tol and it < max_iter:
             continue
-        impulse_velocity(tree, off, Bp, dofadr, dofnum, r, v)      # anew: no drift from the updates
         err = _law_error(tree, off, Jp, dofadr, dofnum, v, q, u, r, fn, rows_1, ws, resid, norm_q)
+        if err <= tol or it == max_iter:      # v anew (no drift from the updates), the error again
+            impulse_velocity(tree, off, Bp, dofadr, dofnum, r, v)
+            err = _law_error(tree, off, Jp, dofadr, dofnum, v, q, u, r, fn, rows_1, ws, resid, norm_q)
         hist_err[nh] = err
         hist_it[nh] = it
         nh += 1
