@@ -46,7 +46,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._returnspec import TOL as RETURN_TOL
 from ..errors import FrictionRulesError
 from ._frame import UNBOUNDED, _Monitor
 from ._law_check import LAW_METHODS, check_law, short
@@ -56,10 +55,10 @@ from .problem import Solution
 __all__ = ["LAW_METHODS", "check_law", "law_error", "contact_dissipation", "solve_law"]
 
 #: Newton iterations of a contact's local problem per sweep, and their tolerance on the local
-#: natural map relative to the contact's reactions: the tolerance of the return that evaluates
-#: that map (below it the map is the return's round-off, which no Newton step lowers; a
-#: contact that does not get there in a sweep is continued by the next).
-LOCAL_ITER, LOCAL_TOL = 30, RETURN_TOL
+#: natural map relative to the contact's reactions (a few tens of ulps; where a contact does
+#: not get there, the sweeps continue it; where neither Newton's step nor the fixed point
+#: lowers a map already within the return's tolerance, :func:`._law_kernels._newton` stops).
+LOCAL_ITER, LOCAL_TOL = 30, 1e-14
 #: ``"auto"`` on the law path: the first stage's sweeps (doubled at each round) and the Newton
 #: steps of each polish between them.
 AUTO_SWEEPS, AUTO_POLISH_STEPS = 100, 20
