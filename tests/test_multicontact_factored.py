@@ -97,6 +97,22 @@ def test_factored_solve_converges_to_a_solution_of_the_problem_on_W(law):
     assert measure(problem, sol.r) <= 1e-10
 
 
+@pytest.mark.parametrize("seed", [0, 3, 7])
+def test_one_sliding_contact_is_solved_by_its_local_solve_in_one_sweep(seed):
+    """One contact sliding under the transformed-variable rule (1.18): the problem is the
+    contact's local problem, so one sweep's local Newton (to the return's tolerance) solves it:
+    the law path's natural map on W is at round-off, not at the local tolerance's scale."""
+    law = fr.TransformedCoulomb(0.5, 0.25)
+    blocks, J, Minv, _q = random_system(seed, ntree=1, nc=1)
+    q = np.array([-0.3, 1.0 + seed, -0.5 * seed])
+    sol = solve_factored(ContactLaws([law]), blocks, q, tol=1e-12, max_iter=50)
+    assert sol.converged and sol.iterations == 1
+    from frictionrules.multicontact import law_error
+    problem = fr.FrictionContactProblem(blocks.delassus(), q, [law])
+    assert law_error(problem, sol.r) <= 1e-12
+    assert sol.r[0] > 0.0 and np.hypot(sol.u[1], sol.u[2]) > 0.1      # pressed, sliding
+
+
 def test_factored_refuses_turned_elliptic_cones_and_bad_sizes():
     blocks, J, Minv, q = random_system(5)
     laws = ContactLaws([fr.EllipticOrthotropic(0.5, 0.25)] * blocks.nc)

@@ -21,6 +21,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._optional import require
+from .._returnspec import TOL as RETURN_TOL
 from ..contact import contact_update
 from ..contact.layout import LAW_KN, LAW_KT, RES_FORCE, RES_SIZE
 from ._kernels import check_interval, csr_matvec, local_rhs
@@ -174,7 +175,9 @@ def _newton(A, b, fn, row, om, r0, r1, r2, local_iter, local_tol, s, du, s1, res
     r"""Semismooth Newton on :math:`R(r) = r - P_K(r - K(Ar + b))`, the generalized Jacobian
     :math:`I - \partial P_K (I - KA)` from the return's consistent tangent, a step halved
     while it does not lower :math:`|R|`; where no step lowers it, the fixed point
-    :math:`r \leftarrow r - R(r)` is taken instead. Returns ``(r, converged)``."""
+    :math:`r \leftarrow r - R(r)` is taken instead, and where that does not lower it either
+    while :math:`|R| \le` the return's tolerance times :math:`|r|` (the return's round-off)
+    the iteration stops, converged. Returns ``(r, converged)``."""
     kt, kn = om * row[LAW_KT], om * row[LAW_KN]
     DP = np.empty((3, 3))
     J = np.empty((3, 3))
@@ -224,6 +227,10 @@ def _newton(A, b, fn, row, om, r0, r1, r2, local_iter, local_tol, s, du, s1, res
             t0, t1, t2 = r0 - R0, r1 - R1, r2 - R2
             S0, S1, S2, bad = _residual(A, b, fn, row, om, t0, t1, t2, s, du, s1, res, ws, tan, True)
             nS = np.sqrt(S0 * S0 + S1 * S1 + S2 * S2)
+            if not bad and nS >= nR and nR <= RETURN_TOL * nr:
+                # nothing lowers a map already within the return's own tolerance: it is the
+                # return's round-off (not a stop far from the solution)
+                return r0, r1, r2, True
         r0, r1, r2 = t0, t1, t2
         R0, R1, R2, nR, failed = S0, S1, S2, nS, bad
     return r0, r1, r2, nR <= local_tol * np.sqrt(r0 * r0 + r1 * r1 + r2 * r2) or nR == 0.0

@@ -55,8 +55,9 @@ from .problem import Solution
 __all__ = ["LAW_METHODS", "check_law", "law_error", "contact_dissipation", "solve_law"]
 
 #: Newton iterations of a contact's local problem per sweep, and their tolerance on the local
-#: natural map relative to the contact's reactions (a few tens of ulps: round-off; where a
-#: contact does not get there, the sweeps continue it).
+#: natural map relative to the contact's reactions (a few tens of ulps; where a contact does
+#: not get there, the sweeps continue it; where neither Newton's step nor the fixed point
+#: lowers a map already within the return's tolerance, :func:`._law_kernels._newton` stops).
 LOCAL_ITER, LOCAL_TOL = 30, 1e-14
 #: ``"auto"`` on the law path: the first stage's sweeps (doubled at each round) and the Newton
 #: steps of each polish between them.
