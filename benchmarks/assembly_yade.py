@@ -177,6 +177,18 @@ def mean_stats(runs, side: str) -> Stats:
 
 def comparison_table(results, mus, protocol, notes, suffix=""):
     rows = []
+
+    def row(mu, name, digits, a, b, n):
+        """One statistic: each code's mean and interval, whether they overlap, the paired
+        difference's interval and whether it holds 0."""
+        ca, ta = _ci(a, digits)
+        cb, tb = _ci(b, digits)
+        cd, td = _ci([x - y for x, y in zip(a, b)], digits)
+        overlap = "yes" if ca.n > 1 and ca.low <= cb.high and cb.low <= ca.high else (
+            "no" if ca.n > 1 else "–")
+        zero = "–" if cd.n < 2 else ("no" if cd.low > 0 or cd.high < 0 else "yes")
+        return [mu, name, n, ta, tb, overlap, td, zero, _f(ca.std, digits), _f(cb.std, digits)]
+
     for mu in mus:
         runs = [v for (s, m, law), v in results.items() if m == mu and law == "coulomb"]
         for (seed, m, law), v in results.items():
@@ -269,14 +281,7 @@ def ensemble_table(results, mus, notes, suffix=""):
         for key, name, digits in ENSEMBLE_KEYS:
             a = [getattr(v["ours_stats"], key) for v in runs]
             b = [getattr(v["yade_stats"], key) for v in runs]
-            ca, ta = _ci(a, digits)
-            cb, tb = _ci(b, digits)
-            cd, td = _ci([x - y for x, y in zip(a, b)], digits)
-            overlap = "yes" if ca.n > 1 and ca.low <= cb.high and cb.low <= ca.high else (
-                "no" if ca.n > 1 else "–")
-            zero = "–" if cd.n < 2 else ("no" if cd.low > 0 or cd.high < 0 else "yes")
-            rows.append([mu, name, len(runs), ta, tb, overlap, td, zero,
-                         _f(ca.std, digits), _f(cb.std, digits)])
+            rows.append(row(mu, name, digits, a, b, len(runs)))
         final = min(float(v[side].axial_strain[-1]) for v in runs for side in ("ours", "yade")) \
             if runs else 0.0
         extra = [("Z at the start of the shear", 2, lambda r: float(r.coordination[0]))]
@@ -286,14 +291,7 @@ def ensemble_table(results, mus, notes, suffix=""):
         for name, digits, value in extra:
             a = [value(v["ours"]) for v in runs]
             b = [value(v["yade"]) for v in runs]
-            ca, ta = _ci(a, digits)
-            cb, tb = _ci(b, digits)
-            cd, td = _ci([x - y for x, y in zip(a, b)], digits)
-            overlap = "yes" if ca.n > 1 and ca.low <= cb.high and cb.low <= ca.high else (
-                "no" if ca.n > 1 else "–")
-            zero = "–" if cd.n < 2 else ("no" if cd.low > 0 or cd.high < 0 else "yes")
-            rows.append([mu, name, len(runs), ta, tb, overlap, td, zero,
-                         _f(ca.std, digits), _f(cb.std, digits)])
+            rows.append(row(mu, name, digits, a, b, len(runs)))
     write_table("assembly_yade_ensemble" + suffix,
                 "Ensembles: the DEM engine beside YADE on the same samples (means, 95 % intervals)",
                 ["μ", "statistic", "samples", "ours: mean ± 95 %", "YADE: mean ± 95 %",
