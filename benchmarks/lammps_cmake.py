@@ -21,7 +21,8 @@ One command: ``python benchmarks/lammps_cmake.py --source LAMMPS_TREE [--build D
 The table (``results/lammps_cmake.md``) gives each run's largest difference from the tree's
 one-rank run with the source-tree plugin, in positions and velocities (relative to the largest
 velocity), and in the contacts' values (``compute pair/local p1 p2 p3 p4 p5``: N, |T|, sliding,
-dissipation, κ), with the times of the builds.
+dissipation, κ; the rows sorted by value, their order being the owners'), the smallest κ, and
+the times of the builds.
 """
 
 from __future__ import annotations
@@ -118,6 +119,22 @@ def _lammps(source: Path, build: Path, mpicxx: str, jobs: int) -> tuple[Path, st
     return lmp, took
 
 
+def _complete_fmt(source: Path, build: Path) -> str:
+    """LAMMPS installs ``fmt/core.h`` and ``fmt/format.h`` only; a tree whose ``fmt`` is 11
+    (its ``format.h`` includes ``base.h``; LAMMPS's development versions of early 2025) then
+    installs headers that do not compile. The missing ones are copied from the tree (a note
+    in the table says so)."""
+    fmt = build / "install" / "include" / "lammps" / "fmt"
+    if '#include "base.h"' in (fmt / "format.h").read_text() and not (fmt / "base.h").exists():
+        for header in (source / "src" / "fmt").glob("*.h"):
+            if not (fmt / header.name).exists():
+                shutil.copy(header, fmt / header.name)
+        return (" LAMMPS's installation lacked fmt/base.h (its format.h, fmt 11, includes it; "
+                "cmake --install copies core.h and format.h only): the tree's fmt headers were "
+                "copied into it before the installed-LAMMPS recipe ran.")
+    return ""
+
+
 def _recipe(out: Path, name: str, definitions: list) -> float:
     """The export's README recipe: ``cmake -S . -B build ...`` and ``cmake --build build``."""
     t = _run(["cmake", "-S", ".", "-B", "build", *definitions], out, log=out / "configure.log")
@@ -127,6 +144,8 @@ def _recipe(out: Path, name: str, definitions: list) -> float:
 def _read(folder: Path):
     rows = np.loadtxt(folder / "out.dump", skiprows=9, ndmin=2)
     local = np.loadtxt(folder / "local.dump", skiprows=9, ndmin=2)
+    # the pairs come in the order of their owners (another one on 2 ranks): sorted by value
+    local = local[np.lexsort(local.T[::-1])]
     return rows[np.argsort(rows[:, 0])], local
 
 
@@ -155,6 +174,7 @@ def main(argv=None) -> None:
     mpicxx = args.mpicxx or str(wheel.mpi_include.parent / "bin" / "mpicxx")
     mpirun = Path(mpicxx).parent / "mpirun"
     lmp, build_time = _lammps(source, build, mpicxx, args.jobs)
+    fmt_note = _complete_fmt(source, build)
     work = (args.work or build.parent / "frictionrules-cmake-check").resolve()
     shutil.rmtree(work, ignore_errors=True)
     work.mkdir(parents=True)
@@ -207,7 +227,8 @@ def main(argv=None) -> None:
              f"{mpicxx}): {build_time}. Plugin builds: " + ", ".join(
                  f"{k} {v:.1f} s" for k, v in times.items())
              + f". {args.steps} steps of shear of the 400-sphere packing with the hardening "
-             "UserLaw; differences from the tree's 1-rank run with the source-tree plugin.")
+             "UserLaw; differences from the tree's 1-rank run with the source-tree plugin."
+             + fmt_note)
     write_table("lammps_cmake", "The export's CMake recipe on a LAMMPS source tree",
                 ["LAMMPS", "plugin built", "ranks", "max |Δx|", "max |Δv| / max |v|",
                  "max |Δ pair/local|", "contacts", "min κ", "run s"], rows, notes)
