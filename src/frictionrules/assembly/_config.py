@@ -27,6 +27,7 @@
     # cell = "rectangular"     # or "flexible" (shear stresses held at zero instead)
     # engine = "lammps"        # method "dem" in LAMMPS (docs/assembly.md, "LAMMPS"), with
     # ranks = 2                # its MPI ranks
+    # restart_every = 0.05     # and a restart file every 5 % of axial strain (resumable)
 """
 
 from __future__ import annotations
@@ -46,7 +47,7 @@ _SAMPLE = {"lattice", "frame", "cells", "radius", "reference_axis", "tolerance",
 _DEM = ("inertial_number", "damping", "density", "record_every", "peak_window")
 _LOADING = {"kind", "pressure", "axial_strain", "increments", "consolidation_increments",
             "rtol", "max_cuts", "failure_slope", "consolidation", "method", "cell", "engine",
-            "ranks", *_DEM}
+            "ranks", "restart_every", *_DEM}
 
 
 def _table(doc, name, file) -> dict:
@@ -63,7 +64,7 @@ def _check_loading(loading: dict, file) -> None:
     try:
         check_method(loading.get("method", "implicit"))
         check_engine(loading.get("engine", "frictionrules"), loading.get("method", "implicit"),
-                     None, loading.get("ranks", 1))
+                     None, loading.get("ranks", 1), None, loading.get("restart_every"))
         if "cell" in loading:
             check_cell(loading["cell"])
         dem = {k: loading[k] for k in _DEM if k in loading}

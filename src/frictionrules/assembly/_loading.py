@@ -193,13 +193,15 @@ def check_method(method: str) -> None:
         raise FrictionRulesError(f"method = {method!r} violates: one of {', '.join(METHODS)}")
 
 
-def check_engine(engine: str, method: str, run_file=None, ranks=1, lammps_dir=None) -> None:
+def check_engine(engine: str, method: str, run_file=None, ranks=1, lammps_dir=None,
+                 restart_every=None) -> None:
     """The engine of a test: ours, or LAMMPS (``method="dem"`` only, no run file); LAMMPS's
     own options are refused with ours rather than ignored."""
     if engine not in ENGINES:
         raise FrictionRulesError(f"engine = {engine!r} violates: one of {', '.join(ENGINES)}")
     if engine != "lammps":
-        for name, value, default in (("ranks", ranks, 1), ("lammps_dir", lammps_dir, None)):
+        for name, value, default in (("ranks", ranks, 1), ("lammps_dir", lammps_dir, None),
+                                     ("restart_every", restart_every, None)):
             if value != default:
                 raise FrictionRulesError(f"{name} = {value!r} violates: {default!r} for engine = "
                                          f"{engine!r} (an option of engine = 'lammps')")
@@ -210,6 +212,8 @@ def check_engine(engine: str, method: str, run_file=None, ranks=1, lammps_dir=No
         raise FrictionRulesError(f"run_file = {str(run_file)!r} violates: None for engine = "
                                  "'lammps' (run files hold our engine's state; LAMMPS keeps its "
                                  "files in lammps_dir)")
+    if restart_every is not None:
+        check_scalar("restart_every", restart_every, lo=0.0, lo_open=True)
 
 
 def _check_common(failure_slope, max_time) -> None:
@@ -230,7 +234,8 @@ def check_triaxial(assembly: Assembly, kind: str, *, pressure: float, axial_stra
                    increments, consolidation_increments, rtol, max_cuts, failure_slope, max_time,
                    consolidation: str, method: str, inertial_number, damping, density,
                    record_every, peak_window, cell: str, engine: str = "frictionrules",
-                   ranks=1, lammps_dir=None, run_file=None) -> tuple[float, float]:
+                   ranks=1, lammps_dir=None, run_file=None,
+                   restart_every=None) -> tuple[float, float]:
     """The arguments of :func:`triaxial` checked as it checks them before it runs (the options
     of the method that runs; those of the other are ignored, as by :func:`triaxial`); returns
     the pressure and the axial strain as floats. :func:`ensemble` checks every run with it
@@ -240,7 +245,7 @@ def check_triaxial(assembly: Assembly, kind: str, *, pressure: float, axial_stra
     p = check_scalar("pressure", pressure, lo=0.0, lo_open=True)
     a = check_scalar("axial_strain", axial_strain, lo=0.0, lo_open=True, hi=0.5)
     check_method(method)
-    check_engine(engine, method, run_file, ranks, lammps_dir)
+    check_engine(engine, method, run_file, ranks, lammps_dir, restart_every)
     _check_common(failure_slope, max_time)
     consolidation_of(assembly, consolidation)
     if method == "dem":
@@ -251,6 +256,9 @@ def check_triaxial(assembly: Assembly, kind: str, *, pressure: float, axial_stra
         if opts["record_every"] > a:
             raise FrictionRulesError(f"record_every = {opts['record_every']!r} violates: at most "
                                      f"axial_strain = {a!r}")
+        if restart_every is not None:
+            from ._lammps._runner import restart_records
+            restart_records(restart_every, opts["record_every"], a)
         return p, a
     for name, value, lo in (("increments", increments, 1), ("consolidation_increments",
                                                              consolidation_increments, 1),
@@ -269,7 +277,7 @@ def triaxial(assembly: Assembly, kind: str, *, pressure: float, axial_strain: fl
              inertial_number: float = 4e-4, damping: float = 0.2, density: float = 1.0,
              record_every: float = 1e-3, peak_window: float = 2.5e-3,
              cell: str = "rectangular", engine: str = "frictionrules", ranks: int = 1,
-             lammps_dir=None) -> TriaxialResult:
+             lammps_dir=None, restart_every: float | None = None) -> TriaxialResult:
     r"""Consolidate the sample to the isotropic ``pressure``, then compress it along the axis.
 
     Two methods: "implicit" (the default) follows equilibrium increment by increment (Newton's
@@ -350,6 +358,12 @@ def triaxial(assembly: Assembly, kind: str, *, pressure: float, axial_strain: fl
         ``engine="lammps"``: MPI ranks (``mpirun -np ranks``).
     lammps_dir : path, optional
         ``engine="lammps"``: the folder of LAMMPS's files (kept); a temporary one otherwise.
+        Called again with the same sample and options and the same folder, a run that
+        finished there is read back (nothing runs) and one that was interrupted resumes from
+        its last complete restart file (``restart_every``), as a run file resumes.
+    restart_every : float, optional
+        ``engine="lammps"``: axial strain between two restart files of the shear (a whole
+        number of ``record_every``; :func:`write_lammps_triaxial`); none by default.
 
     Returns
     -------
@@ -361,14 +375,16 @@ def triaxial(assembly: Assembly, kind: str, *, pressure: float, axial_strain: fl
                           max_time=max_time, consolidation=consolidation, method=method,
                           inertial_number=inertial_number, damping=damping, density=density,
                           record_every=record_every, peak_window=peak_window, cell=cell,
-                          engine=engine, ranks=ranks, lammps_dir=lammps_dir, run_file=run_file)
+                          engine=engine, ranks=ranks, lammps_dir=lammps_dir, run_file=run_file,
+                          restart_every=restart_every)
     if engine == "lammps":
         from ._lammps import lammps_triaxial
         return lammps_triaxial(assembly, kind, pressure=p, axial_strain=a, ranks=ranks,
                                lammps_dir=lammps_dir, progress=progress, max_time=max_time,
                                consolidation=consolidation, inertial_number=inertial_number,
                                damping=damping, density=density, record_every=record_every,
-                               peak_window=peak_window, failure_slope=failure_slope, cell=cell)
+                               peak_window=peak_window, failure_slope=failure_slope, cell=cell,
+                               restart_every=restart_every)
     if method == "dem":
         from ._dem import dem_triaxial
         return dem_triaxial(assembly, kind, pressure=p, axial_strain=a, failure_slope=failure_slope,

@@ -2,7 +2,8 @@
 loading from TOML), writing the HDF5 run file as the run goes; a run file that exists is
 resumed. ``method = "dem"`` in ``[loading]`` runs the dynamic engine; ``--engine lammps``
 (or ``engine = "lammps"`` in ``[loading]``) runs the same test in LAMMPS on ``--ranks`` MPI
-ranks (no run file: LAMMPS's files go to ``--lammps-dir``). With seeds (``--seeds`` or
+ranks (no run file: LAMMPS's files go to ``--lammps-dir``, where the same command resumes
+from the last restart file of ``--restart-every``). With seeds (``--seeds`` or
 ``[sample] seeds``) an ensemble of random samples runs (``_ensemble``), ``--out`` its run
 folder."""
 
@@ -36,7 +37,12 @@ def register(sub) -> None:
                    help="--engine lammps: MPI ranks (mpirun -np N; overrides ranks in [loading])")
     p.add_argument("--lammps-dir", metavar="FOLDER",
                    help="--engine lammps: keep LAMMPS's files (input, data, records, log) here "
-                   "(a temporary folder otherwise)")
+                   "(a temporary folder otherwise); the same command again reads a finished "
+                   "run back and resumes an interrupted one from its last restart file")
+    p.add_argument("--restart-every", type=finite_float, metavar="STRAIN",
+                   help="--engine lammps: a restart file of the shear every STRAIN of axial "
+                   "strain (a whole number of record_every; overrides restart_every in "
+                   "[loading]), from which the same command resumes")
     p.add_argument("--figure", metavar="FILE", help="stress ratio and volumetric strain against "
                    "axial strain; method \"dem\": also the coordination, the sliding fraction and "
                    "the force network at the last record (.png, .svg, .pdf)")
@@ -87,7 +93,8 @@ def run(args) -> int:
     figure = check_output(args.figure, FIGURE_SUFFIXES, name="--figure") if args.figure else None
     vtk = check_folder(args.vtk, name="--vtk") if args.vtk else None
     if args.seeds is not None or _lists_seeds(args.config):
-        if args.engine == "lammps" or args.ranks is not None or args.lammps_dir is not None:
+        if (args.engine == "lammps" or args.ranks is not None or args.lammps_dir is not None
+                or args.restart_every is not None):
             raise FrictionRulesError("--engine lammps violates: not with seeds (an ensemble runs "
                                      "our engine; run LAMMPS once per sample)")
         if args.out is None:
@@ -164,13 +171,19 @@ def _engine_options(args, loading: dict) -> bool:
                                          f"{loading['method']!r})")
             loading["method"] = "dem"
     lammps = loading.get("engine", "frictionrules") == "lammps"
-    for name, value in (("--ranks", args.ranks), ("--lammps-dir", args.lammps_dir)):
+    for name, value in (("--ranks", args.ranks), ("--lammps-dir", args.lammps_dir),
+                        ("--restart-every", args.restart_every)):
         if value is not None and not lammps:
             raise FrictionRulesError(f"{name} = {value!r} violates: an option of --engine lammps")
     if args.ranks is not None:
         loading["ranks"] = args.ranks
     if args.lammps_dir is not None:
         loading["lammps_dir"] = args.lammps_dir
+    if args.restart_every is not None:
+        if not args.restart_every > 0:
+            raise FrictionRulesError(f"--restart-every = {args.restart_every!r} violates: > 0 "
+                                     "(axial strain between two restart files)")
+        loading["restart_every"] = args.restart_every
     return lammps
 
 

@@ -25,8 +25,7 @@ from ._pair import pair_lines
 from ._script import POSITIONS, RECORD_COLUMNS, RECORDS, RESTART_PREFIX, STAGES
 
 __all__ = ["LammpsFiles", "write_lammps_triaxial", "read_lammps_triaxial", "run_lammps",
-           "lammps_triaxial", "resume_lammps_triaxial", "SNAPSHOT_GRAINS",
-           "check_lammps_options"]
+           "SNAPSHOT_GRAINS", "check_lammps_options", "restart_records"]
 
 #: Samples up to this many grains keep their centres and contacts at every record; larger
 #: ones at the last record only (the records' stress, strain, coordination are kept for all).
@@ -108,6 +107,17 @@ def check_lammps_options(assembly, kind: str, cell: str, ranks) -> None:
         raise FrictionRulesError(f"ranks = {ranks!r} violates: an integer >= 1")
 
 
+def restart_records(restart_every, record_every: float, axial_strain: float) -> int:
+    """Records between two restart files: ``restart_every`` must be a whole number of
+    ``record_every``, positive, at most ``axial_strain``."""
+    every = check_scalar("restart_every", restart_every, lo=0.0, lo_open=True, hi=axial_strain)
+    k = every / record_every
+    if abs(k - round(k)) > 1e-9 * k:
+        raise FrictionRulesError(f"restart_every = {restart_every!r} violates: a whole number "
+                                 f"of record_every = {record_every!r}")
+    return int(round(k))
+
+
 def write_lammps_triaxial(assembly, kind: str, folder, *, pressure: float, axial_strain: float,
                           consolidation: str = "auto", inertial_number: float = 4e-4,
                           damping: float = 0.2, density: float = 1.0, record_every: float = 1e-3,
@@ -145,6 +155,8 @@ def write_lammps_triaxial(assembly, kind: str, folder, *, pressure: float, axial
         raise FrictionRulesError(f"record_every = {record_every!r} violates: at most "
                                  f"axial_strain = {axial_strain!r}")
     check_lammps_options(assembly, kind, cell, 1)
+    if restart_every is not None:
+        restart_records(restart_every, opts["record_every"], a)
     consolidation = consolidation_of(assembly, consolidation)
     out = Path(folder)
     out.mkdir(parents=True, exist_ok=True)
@@ -157,12 +169,7 @@ def write_lammps_triaxial(assembly, kind: str, folder, *, pressure: float, axial
     record_steps, steps = steps_of(rate, dt, opts["record_every"], a)
     restart_steps = None
     if restart_every is not None:
-        every = check_scalar("restart_every", restart_every, lo=0.0, lo_open=True, hi=a)
-        k = every / opts["record_every"]
-        if abs(k - round(k)) > 1e-9 * k:
-            raise FrictionRulesError(f"restart_every = {restart_every!r} violates: a whole number "
-                                     f"of record_every = {opts['record_every']!r}")
-        restart_steps = int(round(k)) * record_steps
+        restart_steps = restart_records(restart_every, opts["record_every"], a) * record_steps
     for name in (RECORDS, POSITIONS, STAGES):
         (out / name).unlink(missing_ok=True)
     data_file(out / DATA, assembly.positions, assembly.radii, assembly.cell, opts["density"])
@@ -425,76 +432,3 @@ def _message(folder: Path, opts: dict, ended: str, ranks) -> str:
                   "(remap x)", "a contact's history erased when it opens (ours: kept within "
                   "the skin)", "no sliding fraction or dissipation from this pair style"]
     return "; ".join(parts)
-
-
-def resume_lammps_triaxial(assembly, folder, *, restart=None, ranks: int = 1, progress=None,
-                           max_time: float | None = None) -> TriaxialResult:
-    """Go on with the shear of a LAMMPS run written with ``restart_every`` from one of its
-    restart files (the last one by default): the records and centres after its step are
-    dropped, ``in.resume`` runs on ``ranks`` ranks, and the result is read as
-    :func:`read_lammps_triaxial` reads it. On one rank the result equals, bit for bit, that of
-    the run that wrote the file had it gone on (``docs/assembly.md``, "LAMMPS")."""
-    folder = Path(folder)
-    if not (folder / RESUME).exists():
-        raise FrictionRulesError(f"folder = {str(folder)!r} violates: a run written with "
-                                 "restart_every (no in.resume)")
-    check_lammps_options(assembly, "axisymmetric", "rectangular", ranks)
-    files = sorted(folder.glob(f"{RESTART_PREFIX}*.restart"),
-                   key=lambda f: int(f.name[len(RESTART_PREFIX):-len(".restart")]))
-    chosen = Path(restart) if restart is not None else (files[-1] if files else None)
-    if chosen is None or not (folder / chosen.name).exists():
-        raise FrictionRulesError(f"restart = {restart!r} violates: a restart file of the shear "
-                                 f"in {folder}")
-    step = int(chosen.name[len(RESTART_PREFIX):-len(".restart")])
-    _truncate(folder, step)
-    opts = json.loads((folder / OPTIONS).read_text())
-    files_ = LammpsFiles(folder, folder / RESUME, folder / DATA, opts["steps"],
-                         opts["record_steps"], opts["pair_style"])
-    ended = run_lammps(files_, ranks=ranks, progress=progress, max_time=max_time,
-                       arguments=["-var", "restart", chosen.name])
-    return read_lammps_triaxial(assembly, folder, ended=ended, ranks=ranks)
-
-
-def _truncate(folder: Path, step: int) -> None:
-    """Records and dumps after ``step`` dropped (what a resumed run writes again)."""
-    path = folder / RECORDS
-    kept = [line for line in path.read_text().splitlines()
-            if line.startswith("#") or not line.strip() or int(line.split()[0]) <= step]
-    path.write_text("\n".join(kept) + "\n")
-    dump = folder / POSITIONS
-    if dump.exists():
-        lines = dump.read_text().splitlines(keepends=True)
-        cut = next((k for k in range(len(lines) - 1) if lines[k].startswith("ITEM: TIMESTEP")
-                    and int(lines[k + 1]) > step), len(lines))
-        dump.write_text("".join(lines[:cut]))
-    stages = folder / STAGES
-    if stages.exists():
-        stages.write_text("".join(line for line in stages.read_text().splitlines(keepends=True)
-                                  if "shear done" not in line))
-
-
-def lammps_triaxial(assembly, kind: str, *, pressure: float, axial_strain: float, ranks: int,
-                    lammps_dir=None, progress=None, max_time=None, **options) -> TriaxialResult:
-    """``triaxial(..., method="dem", engine="lammps")``: write the files (into ``lammps_dir``,
-    a temporary folder otherwise), run them on ``ranks`` ranks, read the result back."""
-    import tempfile
-    check_lammps_options(assembly, kind, options.get("cell", "rectangular"), ranks)
-    if max_time is not None:
-        check_scalar("max_time", max_time, lo=0.0, lo_open=True)
-    if lammps_dir is None:
-        with tempfile.TemporaryDirectory(prefix="frictionrules-lammps-") as tmp:
-            return _write_run_read(assembly, kind, tmp, pressure, axial_strain, ranks, progress,
-                                   max_time, options)
-    return _write_run_read(assembly, kind, lammps_dir, pressure, axial_strain, ranks, progress,
-                           max_time, options)
-
-
-def _write_run_read(assembly, kind, folder, pressure, axial_strain, ranks, progress, max_time,
-                    options):
-    files = write_lammps_triaxial(assembly, kind, folder, pressure=pressure,
-                                  axial_strain=axial_strain, **options)
-    ended = run_lammps(files, ranks=ranks, progress=progress, max_time=max_time)
-    if ended != "completed" and len(_records(files.folder)) == 0:
-        raise FrictionRulesError(f"max_time = {max_time!r} violates: long enough for the "
-                                 "consolidation (LAMMPS was stopped before its first record)")
-    return read_lammps_triaxial(assembly, files.folder, ended=ended, ranks=ranks)

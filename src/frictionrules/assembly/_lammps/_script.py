@@ -191,8 +191,9 @@ def _shear(*, law_outputs, kind, p, gain, rate, record_steps, total, restart_ste
     if restart_steps is None:
         lines.append(f"run {total}")
     else:    # segments: a run that starts again repeats a record and a dump (the reader
-        # keeps the first of each step)
-        lines += ["label segment", f"run {restart_steps}",
+        # keeps the first of each step); the last one ends at the shear's last step
+        lines += ["label segment", f"run $(({total}-step>{restart_steps})*{restart_steps}+({total}-step<={restart_steps})"
+                  f"*({total}-step):%.0f)",
                   f"write_restart {RESTART_PREFIX}*.restart",
                   f'if "$(step) < {total}" then "jump SELF segment"']
     lines.append(f'print "stage shear done at step $(step)" append {STAGES} screen no')
