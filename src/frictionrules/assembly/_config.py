@@ -21,6 +21,8 @@
     pressure = 1.0
     axial_strain = 0.01
     increments = 100           # the implicit method's
+    # consolidation = "frictionless"   # random packings' default ("auto"); or "stress"
+    # preload = 10.0           # frictionless: settle at 10 p, then unload (1: from below)
     # method = "dem"           # the dynamic engine ("Dynamic runs"), with its options:
     # inertial_number = 4e-4; damping = 0.2; density = 1.0; record_every = 1e-3
     # peak_window = 2.5e-3
@@ -34,7 +36,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..contact import ContactModel
-from ..errors import FrictionRulesError
+from ..errors import FrictionRulesError, check_scalar
 from ..laws import law_from_mapping
 from ._geometry import Assembly
 
@@ -46,7 +48,7 @@ _SAMPLE = {"lattice", "frame", "cells", "radius", "reference_axis", "tolerance",
 _DEM = ("inertial_number", "damping", "density", "record_every", "peak_window")
 _LOADING = {"kind", "pressure", "axial_strain", "increments", "consolidation_increments",
             "rtol", "max_cuts", "failure_slope", "consolidation", "method", "cell", "engine",
-            "ranks", *_DEM}
+            "ranks", "preload", *_DEM}
 
 
 def _table(doc, name, file) -> dict:
@@ -57,10 +59,12 @@ def _table(doc, name, file) -> dict:
 
 
 def _check_loading(loading: dict, file) -> None:
-    """The method, the cell and the dynamic engine's options, checked before the sample is
-    built."""
+    """The method, the cell, the preload and the dynamic engine's options, checked before the
+    sample is built."""
     from ._loading import check_cell, check_engine, check_method
     try:
+        if "preload" in loading:
+            check_scalar("preload", loading["preload"], lo=1.0)
         check_method(loading.get("method", "implicit"))
         check_engine(loading.get("engine", "frictionrules"), loading.get("method", "implicit"),
                      None, loading.get("ranks", 1))

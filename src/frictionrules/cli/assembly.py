@@ -37,6 +37,10 @@ def register(sub) -> None:
     p.add_argument("--lammps-dir", metavar="FOLDER",
                    help="--engine lammps: keep LAMMPS's files (input, data, records, log) here "
                    "(a temporary folder otherwise)")
+    p.add_argument("--preload", type=finite_float, metavar="X",
+                   help="the frictionless consolidation settles first at X times the pressure, "
+                        "then is unloaded to it (X >= 1; 1: compressed from below, as YADE; "
+                        "default 10; overrides preload in [loading])")
     p.add_argument("--figure", metavar="FILE", help="stress ratio and volumetric strain against "
                    "axial strain; method \"dem\": also the coordination, the sliding fraction and "
                    "the force network at the last record (.png, .svg, .pdf)")
@@ -81,11 +85,13 @@ def run(args) -> int:
     from .._output import FIGURE_SUFFIXES, check_folder, check_output
     from .._threads import prefer_openmp
     from ..assembly import read_samples, triaxial
-    from ..errors import FrictionRulesError
+    from ..errors import FrictionRulesError, check_scalar
     from . import _common
 
     figure = check_output(args.figure, FIGURE_SUFFIXES, name="--figure") if args.figure else None
     vtk = check_folder(args.vtk, name="--vtk") if args.vtk else None
+    if args.preload is not None:
+        check_scalar("--preload", args.preload, lo=1.0)
     if args.seeds is not None or _lists_seeds(args.config):
         if args.engine == "lammps" or args.ranks is not None or args.lammps_dir is not None:
             raise FrictionRulesError("--engine lammps violates: not with seeds (an ensemble runs "
@@ -101,6 +107,7 @@ def run(args) -> int:
     with _common.progress(args, "assembly", unit="increments") as bar:
         bar.phase("preparing the sample")
         (assembly,), _, loading = read_samples(args.config, progress=bar)
+        with_preload(args, loading)
         lammps = _engine_options(args, loading)
         out = None
         if lammps:
@@ -142,6 +149,12 @@ def run(args) -> int:
         files = write_vtk(result, vtk, every=args.vtk_every, radii=assembly.radii)
         print(f"wrote {', '.join(str(f) for f in files)}")
     return _exit_code(result, dem)
+
+
+def with_preload(args, loading: dict) -> None:
+    """``--preload`` into the keyword arguments of ``triaxial`` (it overrides [loading])."""
+    if args.preload is not None:
+        loading["preload"] = args.preload
 
 
 def _lists_seeds(config) -> bool:
