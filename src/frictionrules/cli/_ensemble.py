@@ -27,7 +27,6 @@ def run_ensemble(args, figure) -> int:
     from ..assembly import ensemble, read_samples
     from ..errors import FrictionRulesError
     from . import _common
-    from .assembly import with_preload
 
     if args.vtk:
         raise FrictionRulesError(f"--vtk = {args.vtk!r} violates: a single run (no seeds)")
@@ -41,7 +40,7 @@ def run_ensemble(args, figure) -> int:
     with _common.progress(args, "assembly", unit="samples") as bar:
         bar.phase("preparing the samples")
         assemblies, seeds, loading = read_samples(args.config, seeds=args.seeds, progress=bar)
-        with_preload(args, loading)
+        _common.with_preload(args, loading)
         bar.phase("")
         bar.unit = "runs"
         kind = loading.pop("kind")

@@ -107,7 +107,7 @@ def run(args) -> int:
     with _common.progress(args, "assembly", unit="increments") as bar:
         bar.phase("preparing the sample")
         (assembly,), _, loading = read_samples(args.config, progress=bar)
-        with_preload(args, loading)
+        _common.with_preload(args, loading)
         lammps = _engine_options(args, loading)
         out = None
         if lammps:
@@ -149,12 +149,6 @@ def run(args) -> int:
         files = write_vtk(result, vtk, every=args.vtk_every, radii=assembly.radii)
         print(f"wrote {', '.join(str(f) for f in files)}")
     return _exit_code(result, dem)
-
-
-def with_preload(args, loading: dict) -> None:
-    """``--preload`` into the keyword arguments of ``triaxial`` (it overrides [loading])."""
-    if args.preload is not None:
-        loading["preload"] = args.preload
 
 
 def _lists_seeds(config) -> bool:
