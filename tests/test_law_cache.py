@@ -128,6 +128,14 @@ def _not_a_module_name(path, folder):
     path.write_text(json.dumps(doc))
 
 
+def _not_a_generated_module(path, folder):
+    doc = json.loads(path.read_text())
+    module = folder / f"{doc['module']}.py"
+    (folder / "json.py").write_bytes(module.read_bytes())
+    doc["module"] = "json"
+    path.write_text(json.dumps(doc))
+
+
 def _older_format(path, folder):
     doc = json.loads(path.read_text())
     doc["format"] = _lawcache.FORMAT - 1
@@ -135,11 +143,13 @@ def _older_format(path, folder):
 
 
 @pytest.mark.parametrize("damage", [_corrupt_json, _other_key, _bad_float, _module_edited,
-                                    _module_gone, _not_a_module_name, _older_format])
+                                    _module_gone, _not_a_module_name, _not_a_generated_module,
+                                    _older_format])
 def test_a_corrupt_or_stale_entry_is_derived_again_and_written_over(cache, damage, monkeypatch):
     """A truncated entry, one that repeats another key, a value that is not a hex float, a
     module whose text is not the one recorded (edited, or another version's under the same
-    name), a missing module, a module name that is not a plain name, an older format: each is
+    name), a missing module, a module name that is not a plain name or not a generated
+    module's (even with the recorded text), an older format: each is
     a miss; the law is derived again and the entry rewritten (the next call hits)."""
     law = LAWS["coulomb"]
     spy = _Spy(monkeypatch)
@@ -249,3 +259,17 @@ def test_processes_deriving_and_writing_at_once_leave_a_whole_entry(tmp_path):
     assert reads > 0
     assert sorted(f.name for f in folder.iterdir() if not f.name.startswith("__")) == sorted(
         [entry.module + ".py", _lawcache.entry_path(folder, key).name])
+
+
+def test_the_cache_folder_follows_numbas_without_its_own(tmp_path, monkeypatch):
+    """``$FRICTIONRULES_CACHE_DIR`` first; without it, beside Numba's cache
+    (``$NUMBA_CACHE_DIR/frictionrules``); without either, the user's cache folder."""
+    monkeypatch.delenv("FRICTIONRULES_CACHE_DIR", raising=False)
+    monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path / "numba"))
+    assert _generated.cache_dir() == tmp_path / "numba" / "frictionrules" / "kernels"
+    monkeypatch.setenv("FRICTIONRULES_CACHE_DIR", str(tmp_path / "own"))
+    assert _generated.cache_dir() == tmp_path / "own" / "kernels"
+    monkeypatch.delenv("FRICTIONRULES_CACHE_DIR")
+    monkeypatch.delenv("NUMBA_CACHE_DIR")
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+    assert _generated.cache_dir() == tmp_path / "xdg" / "frictionrules" / "kernels"

@@ -274,9 +274,9 @@ def _derive(law, folder: Path):
     from .._output import write_text
     from ..codegen import return_constants
     from ..laws import form_of
-    from ._lawcache import LawEntry
+    from ._lawcache import MODULE_PREFIX, LawEntry
     form = form_of(law)
-    name = f"frictionrules_law_{hashlib.sha256(form.structure.encode()).hexdigest()[:20]}"
+    name = f"{MODULE_PREFIX}{hashlib.sha256(form.structure.encode()).hexdigest()[:20]}"
     text = module_source(form, type(law).__name__)
     path = folder / f"{name}.py"
     if not path.exists() or path.read_text(encoding="utf-8") != text:

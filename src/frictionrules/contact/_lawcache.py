@@ -42,10 +42,13 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["LawEntry", "law_key", "read_entry", "write_entry", "generator_digest", "FORMAT"]
+__all__ = ["LawEntry", "law_key", "read_entry", "write_entry", "entry_path", "generator_digest",
+           "FORMAT", "MODULE_PREFIX"]
 
 #: The entry's layout version (a change of the fields makes older entries misses).
 FORMAT = 1
+#: The generated modules' names start with this (an entry naming another module is a miss).
+MODULE_PREFIX = "frictionrules_law_"
 
 #: The package's sources a generated module and its constants follow, relative to the package:
 #: folders (every ``.py`` file in them) and files.
@@ -127,7 +130,8 @@ def read_entry(folder: Path, key: str) -> LawEntry | None:
         if not isinstance(doc, dict) or doc.get("format") != FORMAT or doc.get("key") != key:
             return None
         module, digest, nq = doc["module"], doc["module_sha256"], doc["nq"]
-        if (not isinstance(module, str) or not module.isidentifier() or not isinstance(nq, int)
+        if (not isinstance(module, str) or not module.startswith(MODULE_PREFIX)
+                or not module.isidentifier() or not isinstance(nq, int)
                 or not isinstance(digest, str)):
             return None
         text = (folder / f"{module}.py").read_bytes()
