@@ -247,3 +247,21 @@ def test_lammps_consolidates_from_below_with_preload_1(tmp_path):
     assert "preload" not in stages and "stage consolidation (frictionless) settled" in stages
     assert json.loads((tmp_path / "run.json").read_text())["preload"] == 1.0
     np.testing.assert_allclose(np.diag(r.stress[0]), 1.0, atol=1e-3 + 1e-12)
+
+
+def test_cli_preload_reaches_an_ensembles_runs(tmp_path):
+    """With seeds, ``--preload 1`` goes to every run of the ensemble: the summary's metadata
+    and each run file hold it."""
+    import h5py
+    cfg = tmp_path / "ens.toml"
+    cfg.write_text(CONFIG.format(extra="").replace("seed = 1", "seeds = [1, 2]"))
+    out = tmp_path / "runs"
+    res = _cli(cfg, "--out", out, "--preload", "1", "--quiet")
+    assert res.returncode == 0, res.stderr
+    meta = json.loads((out / "summary.json").read_text())["metadata"]
+    assert meta["parameters"]["preload"] == 1.0
+    files = sorted(out.glob("*.h5"))
+    assert len(files) == 2
+    for path in files:
+        with h5py.File(path, "r") as h5:
+            assert json.loads(h5.attrs["parameters"])["preload"] == 1.0
