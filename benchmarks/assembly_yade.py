@@ -13,7 +13,7 @@ One command: ``python benchmarks/assembly_yade.py [--quick] [--seeds 1,2,3 | 1-1
   (the same sample in both codes) with its interval, for the statistics below, ε_v at 2–20 %
   and Z at the start of the shear.
 * Screening (one thing of ours changed at run time, the runs tagged with it):
-  ``--ours-preload``, ``--ours-dt-safety``, ``--ours-servo-rate``; ``--strain`` below
+  ``--ours-preload`` (``triaxial(..., preload=X)``), ``--ours-dt-safety``, ``--ours-servo-rate``; ``--strain`` below
   ``--yade-strain`` compares short runs of ours with YADE's kept ones at ``--strain``.
 
 * Samples: 400 spheres, radii 1 ± 20 %, made by YADE's own generator (``makeCloud``, periodic,
@@ -89,14 +89,18 @@ def ours_available() -> bool:
     return "method" in inspect.signature(triaxial).parameters
 
 
-def _triaxial_dem(sample: dict, law, protocol: Protocol, axial_strain: float):
+def _triaxial_dem(sample: dict, law, protocol: Protocol, axial_strain: float,
+                  preload: float | None = None):
     from frictionrules import Assembly, ContactModel, triaxial
     p = protocol
     assembly = Assembly(sample["positions"], sample["radii"], sample["cell"],
                         ContactModel(law, kn=p.kn, kt=p.kt))
+    # the preload of the frictionless consolidation: triaxial's own default unless screened
+    extra = {} if preload is None else {"preload": preload}
     return triaxial(assembly, "axisymmetric", pressure=p.pressure, axial_strain=axial_strain,
                     method="dem", inertial_number=p.inertial_number, damping=p.damping,
-                    density=p.density, record_every=p.record_every, consolidation="frictionless")
+                    density=p.density, record_every=p.record_every, consolidation="frictionless",
+                    **extra)
 
 
 def energy_error(result) -> float:
@@ -119,10 +123,11 @@ def _steps_and_dt(result) -> tuple[int, float]:
 
 
 def run_ours(sample: dict, mu: float, protocol: Protocol, law: str = "coulomb",
-             tag: str = "") -> Run:
-    """Our DEM run of the protocol on ``sample`` with the law ``law`` at friction ``mu``."""
+             tag: str = "", preload: float | None = None) -> Run:
+    """Our DEM run of the protocol on ``sample`` with the law ``law`` at friction ``mu``
+    (``preload``: triaxial's option, its default where None)."""
     cpu0, t0 = time.process_time(), time.perf_counter()
-    r = _triaxial_dem(sample, make_law(law, mu), protocol, protocol.axial_strain)
+    r = _triaxial_dem(sample, make_law(law, mu), protocol, protocol.axial_strain, preload)
     wall, cpu = time.perf_counter() - t0, time.process_time() - cpu0
     steps, dt = _steps_and_dt(r)
     run = Run(axial_strain=np.asarray(r.strain)[:, 2, 2], volumetric_strain=np.asarray(r.volumetric_strain),
@@ -393,11 +398,11 @@ def ensemble_notes(protocol: Protocol, preparation: str) -> str:
 
 def screening(args) -> str:
     """Patch our engine's constants for a screening run (one thing changed at a time, at run
-    time); the tag the runs and tables are named with ('' for none)."""
+    time; the preload is triaxial's public option ``preload``, passed by :func:`run_ours`);
+    the tag the runs and tables are named with ('' for none)."""
     from frictionrules.assembly._dem import _engine, _protocol
     tag = ""
     if args.ours_preload is not None:
-        _protocol.PRELOAD = args.ours_preload
         tag += f"_preload{args.ours_preload:g}"
     if args.ours_dt_safety is not None:
         _engine.SAFETY = args.ours_dt_safety
@@ -442,8 +447,9 @@ def main(argv=None):
                         help="the final axial strain of YADE's runs (kept ones are reused), when "
                              "ours stop earlier (--strain): screening runs compare at --strain")
     parser.add_argument("--ours-preload", type=float,
-                        help="screening: our frictionless consolidation's preload (a multiple of "
-                             "p; 1: none, compressed from below as YADE does)")
+                        help="screening: our frictionless consolidation's preload, triaxial(..., "
+                             "preload=X) (a multiple of p; 1: none, compressed from below as YADE "
+                             "does)")
     parser.add_argument("--ours-dt-safety", type=float,
                         help="screening: our time step's safety factor on √(m_min/k_max)")
     parser.add_argument("--ours-servo-rate", type=float,
@@ -502,7 +508,7 @@ def main(argv=None):
                 if law not in ("coulomb", "user") and seeds.index(seed) >= args.law_samples:
                     continue
                 ours = (kept_ours(seed, mu, law, protocol, tag) if args.reuse_ours else None) \
-                    or run_ours(samples[seed], mu, protocol, law, tag)
+                    or run_ours(samples[seed], mu, protocol, law, tag, args.ours_preload)
                 e = results.setdefault((seed, mu, law), {"reused": False})
                 e.update(ours=ours, ours_stats=statistics(ours, protocol.axial_strain))
                 print(f"  ours {law}: {e['ours_stats']}, {ours.wall:.1f} s wall, {ours.cpu:.1f} s CPU",

@@ -98,13 +98,15 @@ class _Phases:
 
 
 def test_frictionless_consolidation_settles_at_its_preload_first(sample):
-    """A frictionless consolidation approaches the pressure from above: it settles at PRELOAD
-    times the pressure (its stress reported against that target), then at the pressure."""
+    """A frictionless consolidation approaches the pressure from above by default: it settles
+    at PRELOAD times the pressure (its stress reported against that target), then at the
+    pressure (``tests/test_assembly_preload.py``: other preloads)."""
     from frictionrules.assembly._dem._protocol import PRELOAD
     progress = _Phases()
     r = _run(sample, Coulomb(0.5), strain=0.001, record_every=0.001, progress=progress)
     texts = progress.texts
-    pre = [k for k, t in enumerate(texts) if t.startswith("consolidation (frictionless, preload)")]
+    pre = [k for k, t in enumerate(texts)
+           if t.startswith(f"consolidation (frictionless, preload {PRELOAD:g} p)")]
     final = [k for k, t in enumerate(texts) if t.startswith("consolidation (frictionless):")]
     assert PRELOAD > 1 and pre and final and pre[-1] < final[0]
     ratio = float(texts[pre[-1]].split("p/p* = ")[1].split(",")[0])

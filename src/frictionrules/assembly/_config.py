@@ -21,6 +21,8 @@
     pressure = 1.0
     axial_strain = 0.01
     increments = 100           # the implicit method's
+    # consolidation = "frictionless"   # random packings' default ("auto"); or "stress"
+    # preload = 10.0           # frictionless: settle at 10 p, then unload (1: from below)
     # method = "dem"           # the dynamic engine ("Dynamic runs"), with its options:
     # inertial_number = 4e-4; damping = 0.2; density = 1.0; record_every = 1e-3
     # peak_window = 2.5e-3
@@ -35,7 +37,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..contact import ContactModel
-from ..errors import FrictionRulesError
+from ..errors import FrictionRulesError, check_scalar
 from ..laws import law_from_mapping
 from ._geometry import Assembly
 
@@ -47,7 +49,7 @@ _SAMPLE = {"lattice", "frame", "cells", "radius", "reference_axis", "tolerance",
 _DEM = ("inertial_number", "damping", "density", "record_every", "peak_window")
 _LOADING = {"kind", "pressure", "axial_strain", "increments", "consolidation_increments",
             "rtol", "max_cuts", "failure_slope", "consolidation", "method", "cell", "engine",
-            "ranks", "restart_every", *_DEM}
+            "ranks", "restart_every", "preload", *_DEM}
 
 
 def _table(doc, name, file) -> dict:
@@ -58,10 +60,12 @@ def _table(doc, name, file) -> dict:
 
 
 def _check_loading(loading: dict, file) -> None:
-    """The method, the cell and the dynamic engine's options, checked before the sample is
-    built."""
+    """The method, the cell, the preload and the dynamic engine's options, checked before the
+    sample is built."""
     from ._loading import check_cell, check_engine, check_method
     try:
+        if "preload" in loading:
+            check_scalar("preload", loading["preload"], lo=1.0)
         check_method(loading.get("method", "implicit"))
         check_engine(loading.get("engine", "frictionrules"), loading.get("method", "implicit"),
                      None, loading.get("ranks", 1), None, loading.get("restart_every"))

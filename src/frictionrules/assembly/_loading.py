@@ -18,7 +18,7 @@ import numpy as np
 
 from ..errors import FrictionRulesError, check_scalar
 from ._contacts import ContactSet, branches, build, embed, skin
-from ._consolidation import consolidation_of
+from ._consolidation import PRELOAD, check_preload, consolidation_of
 from ._geometry import Assembly
 from ._results import SampleState, TriaxialResult, snapshot
 from ._solver import CELLS, components, move, solve_increment, stress_of, triaxial_free
@@ -54,16 +54,17 @@ def initial_state(assembly: Assembly) -> SampleState:
     return SampleState(assembly.positions, assembly.cell, contacts, np.zeros((d, d)), np.zeros((d, d)))
 
 
-def prepared_state(assembly: Assembly, pressure: float, report=None) -> SampleState:
-    """The sample compressed without friction to ``pressure`` (its normal springs balanced,
-    no tangential force): the start of a random sample's consolidation. ``report(text)``,
-    when given, hears how the compression goes."""
+def prepared_state(assembly: Assembly, pressure: float, report=None,
+                   preload: float = PRELOAD) -> SampleState:
+    """The sample compressed without friction to ``pressure`` by way of ``preload`` times it
+    (its normal springs balanced, no tangential force): the start of a random sample's
+    consolidation. ``report(text)``, when given, hears how the compression goes."""
     from ._dem import frictionless_compression
     base = build(assembly, assembly.positions, assembly.cell)
     kns = {m.kn for m in base.models}
     kn = float(np.mean(sorted(kns)))
     x, h = frictionless_compression(assembly.positions, assembly.radii, assembly.cell, kn, pressure,
-                                    report=report)
+                                    report=report, preload=preload)
     contacts = build(assembly, x, h, check_overlap=False)
     force = snapshot(contacts).force
     l3 = embed(branches(x, h, contacts.i, contacts.j, contacts.shift))
@@ -235,7 +236,7 @@ def check_triaxial(assembly: Assembly, kind: str, *, pressure: float, axial_stra
                    consolidation: str, method: str, inertial_number, damping, density,
                    record_every, peak_window, cell: str, engine: str = "frictionrules",
                    ranks=1, lammps_dir=None, run_file=None,
-                   restart_every=None) -> tuple[float, float]:
+                   restart_every=None, preload: float = PRELOAD) -> tuple[float, float]:
     """The arguments of :func:`triaxial` checked as it checks them before it runs (the options
     of the method that runs; those of the other are ignored, as by :func:`triaxial`); returns
     the pressure and the axial strain as floats. :func:`ensemble` checks every run with it
@@ -247,7 +248,7 @@ def check_triaxial(assembly: Assembly, kind: str, *, pressure: float, axial_stra
     check_method(method)
     check_engine(engine, method, run_file, ranks, lammps_dir, restart_every)
     _check_common(failure_slope, max_time)
-    consolidation_of(assembly, consolidation)
+    check_preload(preload, consolidation_of(assembly, consolidation))
     if method == "dem":
         from ._dem import check_dem_options
         opts = check_dem_options(inertial_number=inertial_number, damping=damping,
@@ -277,7 +278,8 @@ def triaxial(assembly: Assembly, kind: str, *, pressure: float, axial_strain: fl
              inertial_number: float = 4e-4, damping: float = 0.2, density: float = 1.0,
              record_every: float = 1e-3, peak_window: float = 2.5e-3,
              cell: str = "rectangular", engine: str = "frictionrules", ranks: int = 1,
-             lammps_dir=None, restart_every: float | None = None) -> TriaxialResult:
+             lammps_dir=None, restart_every: float | None = None,
+             preload: float = PRELOAD) -> TriaxialResult:
     r"""Consolidate the sample to the isotropic ``pressure``, then compress it along the axis.
 
     Two methods: "implicit" (the default) follows equilibrium increment by increment (Newton's
@@ -309,6 +311,12 @@ def triaxial(assembly: Assembly, kind: str, *, pressure: float, axial_strain: fl
         balanced, as DEM prepares samples), then the isotropic stage runs with the laws;
         "auto": "frictionless" for grains of unequal radii in a rectangular cell (random
         packings), "stress" otherwise.
+    preload : float
+        "frictionless": the compression first settles at ``preload`` times the pressure, then
+        is unloaded to it (a multiple >= 1; 1: compressed from below to the pressure, as YADE's
+        ``PeriTriaxController`` does). Unloaded from 10 p (the default), a packing settles in
+        fewer steps, but dilates more in shear than one compressed from below
+        (``docs/assembly.md``, "Dynamic runs"). A consolidation "stress" takes the default only.
     rtol : float
         Newton tolerance on the residual forces, moments and stresses, relative to the largest
         contact force (its moment, the virial).
@@ -376,7 +384,8 @@ def triaxial(assembly: Assembly, kind: str, *, pressure: float, axial_strain: fl
                           inertial_number=inertial_number, damping=damping, density=density,
                           record_every=record_every, peak_window=peak_window, cell=cell,
                           engine=engine, ranks=ranks, lammps_dir=lammps_dir, run_file=run_file,
-                          restart_every=restart_every)
+                          restart_every=restart_every, preload=preload)
+    preload = float(preload)
     if engine == "lammps":
         from ._lammps import lammps_triaxial
         return lammps_triaxial(assembly, kind, pressure=p, axial_strain=a, ranks=ranks,
@@ -384,20 +393,21 @@ def triaxial(assembly: Assembly, kind: str, *, pressure: float, axial_strain: fl
                                consolidation=consolidation, inertial_number=inertial_number,
                                damping=damping, density=density, record_every=record_every,
                                peak_window=peak_window, failure_slope=failure_slope, cell=cell,
-                               restart_every=restart_every)
+                               restart_every=restart_every, preload=preload)
     if method == "dem":
         from ._dem import dem_triaxial
         return dem_triaxial(assembly, kind, pressure=p, axial_strain=a, failure_slope=failure_slope,
-                            consolidation=consolidation, progress=progress, max_time=max_time,
-                            run_file=run_file, inertial_number=inertial_number, damping=damping,
-                            density=density, record_every=record_every, peak_window=peak_window,
-                            cell=cell)
+                            consolidation=consolidation, preload=preload, progress=progress,
+                            max_time=max_time, run_file=run_file, inertial_number=inertial_number,
+                            damping=damping, density=density, record_every=record_every,
+                            peak_window=peak_window, cell=cell)
     consolidation = consolidation_of(assembly, consolidation)
     cons = _consolidation_controls(assembly.dim, p, int(consolidation_increments))
     shear = _shearing_controls(kind, assembly.dim, p, a, int(increments), cell)
     options = dict(kind=kind, cell=cell, pressure=p, axial_strain=a, increments=int(increments),
                    consolidation_increments=int(consolidation_increments), rtol=rtol,
-                   max_cuts=int(max_cuts), failure_slope=failure_slope, consolidation=consolidation)
+                   max_cuts=int(max_cuts), failure_slope=failure_slope, consolidation=consolidation,
+                   preload=preload)
     return _run_test(assembly, kind, cons, shear, options, progress, max_time, run_file)
 
 
@@ -414,7 +424,8 @@ def _run_test(assembly, kind, cons, shear, options, progress, max_time, run_file
         state = rows[-1][0]
     else:
         if options["consolidation"] == "frictionless":
-            state0 = prepared_state(assembly, options["pressure"], report=phase)
+            state0 = prepared_state(assembly, options["pressure"], report=phase,
+                                    preload=options["preload"])
             cons = cons[-1:]  # at the pressure already: one increment brings in the laws
         else:
             state0 = initial_state(assembly)
@@ -489,7 +500,8 @@ def load_cell(assembly: Assembly, control: dict, *, pressure: float, increments:
               failure_slope: float = 1e-2, progress=None, max_time: float | None = None,
               run_file=None, consolidation: str = "auto", method: str = "implicit",
               inertial_number: float = 4e-4, damping: float = 0.2, density: float = 1.0,
-              record_every: float = 1e-3, peak_window: float = 2.5e-3) -> TriaxialResult:
+              record_every: float = 1e-3, peak_window: float = 2.5e-3,
+              preload: float = PRELOAD) -> TriaxialResult:
     """General mixed control of the cell: consolidate to ``pressure``, then drive any
     components of stress or strain.
 
@@ -534,12 +546,13 @@ def load_cell(assembly: Assembly, control: dict, *, pressure: float, increments:
         raise FrictionRulesError(f"control = {control!r} violates: at least one driven component "
                                  "(a nonzero strain or a stress other than the consolidation's)")
     check_method(method)
+    preload = check_preload(preload, consolidation_of(assembly, consolidation))
     if method == "dem":
         _check_common(failure_slope, max_time)
         from ._dem import dem_load_cell
         return dem_load_cell(assembly, control, free=free, start=start, end=target, strain=total,
                              pressure=p, failure_slope=failure_slope, consolidation=consolidation,
-                             progress=progress, max_time=max_time, run_file=run_file,
+                             preload=preload, progress=progress, max_time=max_time, run_file=run_file,
                              inertial_number=inertial_number, damping=damping, density=density,
                              record_every=record_every, peak_window=peak_window)
     if not isinstance(increments, (int, np.integer)) or increments < 1:
@@ -551,5 +564,5 @@ def load_cell(assembly: Assembly, control: dict, *, pressure: float, increments:
     options = dict(kind="mixed", control={k: list(v) for k, v in control.items()}, pressure=p,
                    increments=int(increments), consolidation_increments=int(consolidation_increments),
                    rtol=rtol, max_cuts=int(max_cuts), failure_slope=failure_slope,
-                   consolidation=consolidation)
+                   consolidation=consolidation, preload=preload)
     return _run_test(assembly, "mixed", cons, shear, options, progress, max_time, run_file)

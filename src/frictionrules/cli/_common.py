@@ -51,3 +51,10 @@ def metadata(args, *, model=None, parameters=None, **extra) -> dict:
     from .._output import provenance
     return provenance(command=getattr(args, "command_line", None), model=model,
                       parameters=parameters, **extra)
+
+
+def with_preload(args, loading: dict) -> None:
+    """``frictionrules assembly --preload`` into the keyword arguments of ``triaxial`` read
+    from [loading] (the option overrides the file's ``preload``)."""
+    if args.preload is not None:
+        loading["preload"] = args.preload

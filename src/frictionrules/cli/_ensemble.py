@@ -40,6 +40,7 @@ def run_ensemble(args, figure) -> int:
     with _common.progress(args, "assembly", unit="samples") as bar:
         bar.phase("preparing the samples")
         assemblies, seeds, loading = read_samples(args.config, seeds=args.seeds, progress=bar)
+        _common.with_preload(args, loading)
         bar.phase("")
         bar.unit = "runs"
         kind = loading.pop("kind")

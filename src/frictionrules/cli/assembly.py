@@ -43,6 +43,10 @@ def register(sub) -> None:
                    help="--engine lammps: a restart file of the shear every STRAIN of axial "
                    "strain (a whole number of record_every; overrides restart_every in "
                    "[loading]), from which the same command resumes")
+    p.add_argument("--preload", type=finite_float, metavar="X",
+                   help="the frictionless consolidation settles first at X times the pressure, "
+                        "then is unloaded to it (X >= 1; 1: compressed from below, as YADE; "
+                        "default 10; overrides preload in [loading])")
     p.add_argument("--figure", metavar="FILE", help="stress ratio and volumetric strain against "
                    "axial strain; method \"dem\": also the coordination, the sliding fraction and "
                    "the force network at the last record (.png, .svg, .pdf)")
@@ -87,11 +91,13 @@ def run(args) -> int:
     from .._output import FIGURE_SUFFIXES, check_folder, check_output
     from .._threads import prefer_openmp
     from ..assembly import read_samples, triaxial
-    from ..errors import FrictionRulesError
+    from ..errors import FrictionRulesError, check_scalar
     from . import _common
 
     figure = check_output(args.figure, FIGURE_SUFFIXES, name="--figure") if args.figure else None
     vtk = check_folder(args.vtk, name="--vtk") if args.vtk else None
+    if args.preload is not None:
+        check_scalar("--preload", args.preload, lo=1.0)
     if args.seeds is not None or _lists_seeds(args.config):
         if (args.engine == "lammps" or args.ranks is not None or args.lammps_dir is not None
                 or args.restart_every is not None):
@@ -108,6 +114,7 @@ def run(args) -> int:
     with _common.progress(args, "assembly", unit="increments") as bar:
         bar.phase("preparing the sample")
         (assembly,), _, loading = read_samples(args.config, progress=bar)
+        _common.with_preload(args, loading)
         lammps = _engine_options(args, loading)
         out = None
         if lammps:

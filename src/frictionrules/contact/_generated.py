@@ -16,7 +16,13 @@ runs):
 One module per law *structure*: laws that differ only in parameter values share it (the
 parameters are an input array, the law's row).
 
-The cache folder is ``$FRICTIONRULES_CACHE_DIR``, else ``$XDG_CACHE_HOME/frictionrules``, else
+The first run of a law also writes what it derived with SymPy (the module's name, its return
+structure's constants, its parameter-only subexpressions) to an entry beside the module
+(:mod:`frictionrules.contact._lawcache`): later runs read it and import the module without
+SymPy, and derive the law again only where the entry is missing, stale or corrupt.
+
+The cache folder is ``$FRICTIONRULES_CACHE_DIR``, else ``$NUMBA_CACHE_DIR/frictionrules``
+(beside Numba's cache of the same modules), else ``$XDG_CACHE_HOME/frictionrules``, else
 ``~/.cache/frictionrules``; where none is writable, a temporary folder (compiled once per
 process).
 """
@@ -42,8 +48,11 @@ __all__ = ["GeneratedKernel", "CompiledLaw", "compiled_law", "law_row", "generat
 def cache_dir() -> Path:
     """The folder generated kernel modules are written to (created on first use)."""
     env = os.environ.get("FRICTIONRULES_CACHE_DIR")
+    numba = os.environ.get("NUMBA_CACHE_DIR")
     if env:
         base = Path(env)
+    elif numba:
+        base = Path(numba) / "frictionrules"
     else:
         xdg = os.environ.get("XDG_CACHE_HOME")
         base = (Path(xdg) if xdg else Path.home() / ".cache") / "frictionrules"
@@ -209,13 +218,12 @@ def law_row(law, kt: float, kn: float) -> np.ndarray:
     """The row of :mod:`frictionrules.contact.layout` for ``law`` with stiffnesses ``kt, kn``."""
     names = tuple(law.state_names)
     kappa = names.index("kappa") if "kappa" in names else 0
-    from ..codegen import return_constants
-    from ..laws import form_of
+    entry, _ = law_entry(law)
     head = [float(kt), float(kn), float(not law.defined_in_tension), float(len(names)),
             float("kappa" in names), float(kappa)]
     assert len(head) == LAW_RET
-    row = np.concatenate((head, return_constants(form_of(law)), parameter_values(law)))
-    assert row.size == LAW_PARAMS + parameter_values(law).size
+    row = np.concatenate((head, entry.return_constants, entry.parameter_values))
+    assert row.size == LAW_PARAMS + entry.parameter_values.size
     row.flags.writeable = False
     return row
 
@@ -234,31 +242,57 @@ _KERNELS: dict[tuple, GeneratedKernel] = {}
 def generated_kernel(law) -> GeneratedKernel:
     """The generated compiled return mapping of ``law`` (built once per structure per process;
     its module and machine code are kept in :func:`cache_dir` between processes)."""
-    from ..laws import form_of
-    form = form_of(law)
-    key = (form.structure, not law.defined_in_tension)
+    entry, path = law_entry(law)
+    key = (entry.module, not law.defined_in_tension)
     kernel = _KERNELS.get(key)
     if kernel is None:
-        module, path = _MODULES.get(key[0]) or _build(form, type(law).__name__, key[0])
+        module, path = _MODULES.get(key[0]) or (_import(entry.module, path), path)
         _MODULES[key[0]] = (module, path)
-        kernel = _KERNELS[key] = GeneratedKernel(module, len(form.state), key[1], path)
+        kernel = _KERNELS[key] = GeneratedKernel(module, entry.nq, key[1], path)
     return kernel
 
 
-def _build(form, law_name, structure):
-    digest = hashlib.sha256(structure.encode()).hexdigest()[:20]
-    name = f"frictionrules_law_{digest}"
-    text = module_source(form, law_name)
-    path = cache_dir() / f"{name}.py"
-    if not path.exists() or path.read_text() != text:
-        tmp = path.with_suffix(f".{os.getpid()}.tmp")
-        tmp.write_text(text)
-        os.replace(tmp, path)
+@functools.lru_cache(maxsize=1024)
+def law_entry(law):
+    """``(LawEntry, module path)`` of ``law``: read from its entry in :func:`cache_dir` where
+    one can be trusted, else derived with SymPy (the module written where its text differs)
+    and the entry written (:mod:`frictionrules.contact._lawcache`)."""
+    from ._lawcache import law_key, read_entry, write_entry
+    folder = cache_dir()
+    key = law_key(law)
+    entry = None if key is None else read_entry(folder, key)
+    if entry is None:
+        entry = _derive(law, folder)
+        if key is not None:
+            write_entry(folder, key, entry)
+    return entry, folder / f"{entry.module}.py"
+
+
+def _derive(law, folder: Path):
+    """The :class:`~frictionrules.contact._lawcache.LawEntry` of ``law`` derived with SymPy,
+    its module written to ``folder`` (atomically, where its text differs)."""
+    from .._output import write_text
+    from ..codegen import return_constants
+    from ..laws import form_of
+    from ._lawcache import MODULE_PREFIX, LawEntry
+    form = form_of(law)
+    name = f"{MODULE_PREFIX}{hashlib.sha256(form.structure.encode()).hexdigest()[:20]}"
+    text = module_source(form, type(law).__name__)
+    path = folder / f"{name}.py"
+    if not path.exists() or path.read_text(encoding="utf-8") != text:
+        write_text(path, text)
+    constants = np.array(return_constants(form), dtype=float)
+    constants.flags.writeable = False
+    return LawEntry(name, hashlib.sha256(text.encode()).hexdigest(), len(form.state), constants,
+                    parameter_values(law))
+
+
+def _import(name: str, path: Path):
     spec = importlib.util.spec_from_file_location(name, path)
     module = importlib.util.module_from_spec(spec)
     sys.modules[name] = module
     spec.loader.exec_module(module)
-    return module, path
+    return module
 
 
 def generated_step(law, kt, kn, e, p, q, du, tangent: bool):

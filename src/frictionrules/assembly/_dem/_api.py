@@ -21,25 +21,28 @@ def check_dem_options(*, inertial_number, damping, density, record_every, peak_w
 
 
 def dem_triaxial(assembly, kind: str, *, pressure: float, axial_strain: float, failure_slope: float,
-                 consolidation: str, progress, max_time, run_file, cell: str, **dem) -> object:
+                 consolidation: str, preload: float, progress, max_time, run_file, cell: str,
+                 **dem) -> object:
     """``triaxial(..., method="dem")`` (arguments checked by the caller but ``dem``)."""
     opts = check_dem_options(**dem)  # record_every <= axial_strain: checked by check_triaxial
     options = dict(kind=kind, method="dem", cell=cell, pressure=pressure, axial_strain=axial_strain,
                    failure_slope=failure_slope, consolidation=consolidation_of(assembly, consolidation),
-                   **opts)
+                   preload=preload, **opts)
     d = assembly.dim
     return run_test(assembly, kind, lambda dyn, rate: triaxial_stage(kind, d, pressure, axial_strain, rate, cell),
                     options, progress, max_time, run_file)
 
 
 def dem_load_cell(assembly, control: dict, *, free, start, end, strain, pressure: float,
-                  failure_slope: float, consolidation: str, progress, max_time, run_file, **dem):
+                  failure_slope: float, consolidation: str, preload: float, progress, max_time,
+                  run_file, **dem):
     """``load_cell(..., method="dem")``: the control already parsed into ``free``, ``start``,
     ``end`` (stresses) and ``strain`` (totals) over the components."""
     opts = check_dem_options(**dem)
     options = dict(kind="mixed", method="dem", control={k: list(v) for k, v in control.items()},
                    pressure=pressure, failure_slope=failure_slope,
-                   consolidation=consolidation_of(assembly, consolidation), **opts)
+                   consolidation=consolidation_of(assembly, consolidation), preload=preload,
+                   **opts)
 
     def spec(dyn, rate):
         return mixed_stage(free, start, end, strain, rate, dyn.k_max, float(np.mean(assembly.radii)))

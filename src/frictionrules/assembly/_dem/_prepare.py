@@ -20,7 +20,7 @@ import numpy as np
 from ...errors import FrictionRulesError
 from ._dynamics import Dynamics
 from ._engine import Outcome
-from ._protocol import CONSOLIDATION_RATE, UNBALANCED_TOL, _Clock, _control, consolidate
+from ._protocol import CONSOLIDATION_RATE, PRELOAD, UNBALANCED_TOL, _Clock, _control, consolidate
 
 __all__ = ["frictionless_compression", "compress_to", "PREPARATION_INERTIAL_NUMBER"]
 
@@ -66,14 +66,16 @@ def _result(dyn, state):
 def frictionless_compression(positions, radii, cell, kn: float, pressure: float, *,
                              density: float = 1.0,
                              unbalanced_tol: float = UNBALANCED_TOL, report=None,
-                             name: str = "consolidation") -> tuple[np.ndarray, np.ndarray]:
+                             name: str = "consolidation",
+                             preload: float = PRELOAD) -> tuple[np.ndarray, np.ndarray]:
     """Compress frictionless grains (normal springs ``kn``) until they carry the isotropic
-    ``pressure`` in equilibrium (module docstring). Returns ``(positions, cell)``;
-    ``report(text)``, when given, hears how the compression goes (its stage called ``name``)."""
+    ``pressure`` in equilibrium (module docstring), by way of ``preload`` times it (1: from
+    below; :func:`._protocol.consolidate`). Returns ``(positions, cell)``; ``report(text)``,
+    when given, hears how the compression goes (its stage called ``name``)."""
     dyn, state = _engine(positions, radii, cell, kn, density)
     progress = None if report is None else _Report(report)
     state, _ = consolidate(dyn, state, pressure, _rate(radii, density, pressure), True, progress,
-                           unbalanced_tol=unbalanced_tol, name=name)
+                           unbalanced_tol=unbalanced_tol, name=name, preload=preload)
     return _result(dyn, state)
 
 

@@ -18,16 +18,19 @@ every contact, after which the laws take over with virgin tangential histories; 
 the laws from the start. A consolidation that does not settle within ``CONSOLIDATION_STEPS``
 is an error.
 
-A frictionless consolidation approaches its pressure from above: it settles first at
-``PRELOAD`` times the pressure (to ``PRELOAD`` times the unbalanced-force tolerance), then at
-the pressure. Compressed from below, a frictionless packing near jamming creeps: its
+By default a frictionless consolidation approaches its pressure from above: it settles first
+at ``preload`` times the pressure (to ``preload`` times the unbalanced-force tolerance; the
+option of ``triaxial``, :data:`PRELOAD` by default), then at the pressure; ``preload = 1``
+compresses from below to the pressure (YADE's protocol). Compressed from below, a frictionless packing near jamming creeps: its
 contacts carry the pressure by a fragile network that gives way again and again as the cell
 closes, and the relaxation slows down as the overlaps vanish (critical slowing down at the
 jamming point); unloaded from a well-connected state, it keeps its network and settles
 quickly, as in the compress-then-decompress protocol of O'Hern, Silbert, Liu & Nagel (2003,
 PRE 68 011306). (Measured on ``Assembly.random`` packings of 2,000 spheres, seeds 1–3, to
 p = 1 with kn = 1e4: 147k, 165k, 162k steps from below; 37k, 25k, 21k from 10 p, the solid
-fractions within 0.0004 of those from below; 10,000 spheres: 268k steps against 97k.)
+fractions within 0.0004 of those from below; 10,000 spheres: 268k steps against 97k.) The
+unloading leaves a fabric that dilates more in shear than one compressed from below
+(``docs/assembly.md``, the comparison with YADE).
 """
 
 from __future__ import annotations
@@ -40,6 +43,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...errors import FrictionRulesError
+from .._consolidation import PRELOAD
 from .._contacts import ContactSet
 from .._results import EnergyTerms, SampleState, TriaxialResult
 from .._solver import components, triaxial_free
@@ -59,9 +63,6 @@ CONSOLIDATION_RATE = 10.0
 STRESS_TOL = 1e-3
 #: ... with the unbalanced-force ratio below this.
 UNBALANCED_TOL = 1e-4
-#: A frictionless consolidation settles first at this multiple of its pressure (module
-#: docstring), to this multiple of its unbalanced-force tolerance.
-PRELOAD = 10.0
 #: A consolidation that has not settled after this many steps is an error.
 CONSOLIDATION_STEPS = 5_000_000
 #: Steps between two looks at the clock (progress, max_time), at first.
@@ -141,15 +142,17 @@ def _phase(progress, text):
 
 def consolidate(dyn: Dynamics, state, pressure: float, rate: float, frictionless: bool,
                 progress=None, deadline=None, clock=None, unbalanced_tol: float = UNBALANCED_TOL,
-                name: str = "consolidation"):
+                name: str = "consolidation", preload: float = PRELOAD):
     """Consolidation (module docstring): the normal stresses driven to ``pressure``, the cell's
-    shear strains held (a rectangular cell); frictionless, by way of ``PRELOAD`` times it.
-    Returns ``(state, done)``; ``done`` False where the deadline came first."""
+    shear strains held (a rectangular cell); frictionless, by way of ``preload`` times it
+    (``preload = 1``: none, from below). Returns ``(state, done)``; ``done`` False where the
+    deadline came first."""
     clock = clock or _Clock()
     m = state.meters[0]
-    if frictionless and not m["preloaded"]:
-        state, done = _settle(dyn, state, PRELOAD * pressure, rate, True, progress, deadline,
-                              clock, PRELOAD * unbalanced_tol, f"{name} (frictionless, preload)")
+    if frictionless and preload > 1.0 and not m["preloaded"]:
+        state, done = _settle(dyn, state, preload * pressure, rate, True, progress, deadline,
+                              clock, preload * unbalanced_tol,
+                              f"{name} (frictionless, preload {preload:g} p)")
         if not done:
             return state, False
         state.meters[0]["preloaded"] = 1
@@ -278,7 +281,8 @@ def run_test(assembly, kind: str, spec_of, options: dict, progress=None, max_tim
     laws, _ = dyn.laws(False)
     if stage in ("frictionless", "consolidation"):
         frictionless = stage == "frictionless"
-        state, done = consolidate(dyn, state, p, rate, frictionless, progress, deadline, clock)
+        state, done = consolidate(dyn, state, p, rate, frictionless, progress, deadline, clock,
+                                  preload=options["preload"])
         if not done:
             return _stopped(dyn, writer, state, stage, kind, options,
                             f"stopped during the consolidation: max_time = {max_time!r} s reached")

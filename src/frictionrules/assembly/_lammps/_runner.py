@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from ...errors import FrictionRulesError, check_scalar
-from .._consolidation import consolidation_of
+from .._consolidation import PRELOAD, check_preload, consolidation_of
 from .._results import SampleState, TriaxialResult, snapshot
 from ._pair import pair_lines
 from ._script import POSITIONS, RECORD_COLUMNS, RECORDS, RESTART_PREFIX, STAGES
@@ -123,7 +123,8 @@ def write_lammps_triaxial(assembly, kind: str, folder, *, pressure: float, axial
                           damping: float = 0.2, density: float = 1.0, record_every: float = 1e-3,
                           peak_window: float = 2.5e-3, failure_slope: float = 1e-2,
                           cell: str = "rectangular", pair_style: str = "exported",
-                          restart_every: float | None = None) -> LammpsFiles:
+                          restart_every: float | None = None,
+                          preload: float = PRELOAD) -> LammpsFiles:
     r"""Write the files of ``triaxial(..., method="dem", engine="lammps")`` into ``folder``
     without running them (a cluster's batch system runs ``lmp -in in.triaxial`` there; then
     :func:`read_lammps_triaxial` reads the result).
@@ -158,6 +159,7 @@ def write_lammps_triaxial(assembly, kind: str, folder, *, pressure: float, axial
     if restart_every is not None:
         restart_records(restart_every, opts["record_every"], a)
     consolidation = consolidation_of(assembly, consolidation)
+    preload = check_preload(preload, consolidation)
     out = Path(folder)
     out.mkdir(parents=True, exist_ok=True)
     pairs = pair_lines(assembly, out, pair_style)
@@ -177,7 +179,7 @@ def write_lammps_triaxial(assembly, kind: str, folder, *, pressure: float, axial
                           law_outputs=pairs.outputs, normal_law=pairs.normal, kind=kind, pressure=p, rate=rate,
                           axial_strain=a, record_every=opts["record_every"],
                           damping=opts["damping"], dt=dt, gain=gain, skin=SKIN * mean_r,
-                          frictionless=consolidation == "frictionless",
+                          frictionless=consolidation == "frictionless", preload=preload,
                           positions_every_record=assembly.size <= SNAPSHOT_GRAINS,
                           restart_steps=restart_steps)
     (out / INPUT).write_text(script)
@@ -193,7 +195,7 @@ def write_lammps_triaxial(assembly, kind: str, folder, *, pressure: float, axial
             positions_every_record=assembly.size <= SNAPSHOT_GRAINS,
             restart_steps=restart_steps))
     options = dict(kind=kind, pressure=p, axial_strain=a, consolidation=consolidation,
-                   failure_slope=failure_slope, cell=cell, rate=rate, dt=dt, gain=gain,
+                   preload=preload, failure_slope=failure_slope, cell=cell, rate=rate, dt=dt, gain=gain,
                    steps=steps, record_steps=record_steps, restart_steps=restart_steps,
                    pair_style=pairs.name,
                    law_outputs=pairs.outputs, grains=assembly.size, **opts)

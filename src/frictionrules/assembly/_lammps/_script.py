@@ -16,9 +16,10 @@ its diameter, the density and its centre wrapped into the box.
 * the consolidation: ``fix deform/pressure`` on x, y and z at the target (virial) stress, the
   box's strain rate ``k (σ - p)/p`` bounded by ``CONSOLIDATION_RATE ε̇``, under damped dynamics
   until every normal stress is within ``STRESS_TOL`` of the pressure and the unbalanced-force
-  ratio below ``UNBALANCED_TOL`` (``fix halt``); "frictionless" settles first at ``PRELOAD``
-  times the pressure with the friction coefficient 0, then at the pressure, and the laws come
-  in with virgin tangential histories (our engine relaxes these stages by FIRE);
+  ratio below ``UNBALANCED_TOL`` (``fix halt``); "frictionless" settles first at ``preload``
+  times the pressure with the friction coefficient 0 (the option of ``triaxial``; none where
+  it is 1), then at the pressure, and the laws come in with virgin tangential histories (our
+  engine relaxes these stages by FIRE);
 * the shear: ``fix deform/pressure`` with x and y (plane strain: x only) at the pressure and z
   at the true strain rate ``-ε̇`` (``trate``), ``ε̇ = I √(p/ρ)/d``; the gain ``k`` is that of
   our servo, ``p/(S dt)`` with ``S`` the affine stiffness of an isotropic packing
@@ -41,6 +42,7 @@ import math
 import numpy as np
 
 from ...errors import FrictionRulesError
+from .._consolidation import PRELOAD
 
 __all__ = ["data_file", "input_script", "resume_script", "steps_of", "servo_gain",
            "time_step_of", "RECORD_COLUMNS", "RECORDS", "POSITIONS", "HALT_EVERY", "STAGES",
@@ -204,13 +206,15 @@ def input_script(*, pair_frictionless: list[str], pair_law: list[str], law_outpu
                  normal_law: str,
                  kind: str, pressure: float, rate: float, axial_strain: float, record_every: float,
                  damping: float, dt: float, gain: float, skin: float, frictionless: bool,
-                 positions_every_record: bool, restart_steps: int | None = None) -> str:
+                 positions_every_record: bool, restart_steps: int | None = None,
+                 preload: float = PRELOAD) -> str:
     """The input script (module docstring). ``pair_*``: the pair lines of the frictionless
     stage and of the laws; ``law_outputs``: the pair style offers ``compute pair/local p3 p4``
     (sliding flag, dissipation); ``normal_law``: its ``compute pair/local`` value of the normal
     force ("force" for LAMMPS's own styles); ``restart_steps``: the shear runs in segments of
-    that many steps, each followed by a restart file (:func:`resume_script`)."""
-    from .._dem._protocol import CONSOLIDATION_RATE, PRELOAD, UNBALANCED_TOL
+    that many steps, each followed by a restart file (:func:`resume_script`); ``preload``: the
+    frictionless consolidation's (1: none)."""
+    from .._dem._protocol import CONSOLIDATION_RATE, UNBALANCED_TOL
     record_steps, total = steps_of(rate, dt, record_every, axial_strain)
     p = repr(float(pressure))
     lines = [
@@ -229,8 +233,9 @@ def input_script(*, pair_frictionless: list[str], pair_law: list[str], law_outpu
                    record_steps=record_steps),
     ]
     if frictionless:
-        lines += _settle(PRELOAD * pressure, gain, CONSOLIDATION_RATE * rate,
-                         PRELOAD * UNBALANCED_TOL, "consolidation (frictionless, preload)")
+        if preload > 1.0:
+            lines += _settle(preload * pressure, gain, CONSOLIDATION_RATE * rate,
+                             preload * UNBALANCED_TOL, "consolidation (frictionless, preload)")
         lines += _settle(pressure, gain, CONSOLIDATION_RATE * rate, UNBALANCED_TOL,
                          "consolidation (frictionless)")
         lines += ["# the laws take over: virgin tangential histories", *pair_law,
