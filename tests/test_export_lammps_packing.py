@@ -118,6 +118,30 @@ def test_coulomb_with_projected_history_equals_gran_hooke_history(setup, tmp_pat
     assert np.abs(engine[:, 4:10] - theirs[:, 4:10]).max() > 1e-4 * vscale
 
 
+def test_coulomb_with_rescaled_history_equals_pair_granular(setup, tmp_path):
+    """Coulomb μ = 0.3 with ``history rescale lever contact`` and ``pair granular`` with
+    ``hooke kn 0 tangential linear_history kt 0 0.3 damping mass_velocity`` (no damping): the
+    same trajectories after 1,000 steps of shear, to round-off. ``linear_history`` projects the
+    stored displacement on the new contact plane and rescales it to its length before the
+    increment (``history rescale``), and its torques act at the middle of the overlap, lever
+    r − δ/2 (``lever contact``). Its frame update skips the projection where |e·n| kt ≤ 1e-10 of
+    the friction limit, which this pair style does not: at most a change of 1e-10 relative,
+    grown by the dynamics. Each of the two keywords alone leaves a difference of another order
+    (the lever alone: positions 1e-3 apart)."""
+    install, data, pair = setup
+    theirs = _run(install, tmp_path / "granular", _head(data) + "pair_style granular\n"
+                  f"pair_coeff * * hooke {KN} 0.0 tangential linear_history {KT} 0.0 0.3 "
+                  "damping mass_velocity\n" + _tail(1000))
+    ours = _run(install, tmp_path / "ours", _head(data) + pair["coulomb"].replace(
+        "axis 1.0 0.0 0.0", "axis 1.0 0.0 0.0 history rescale lever contact") + _tail(1000))
+    radius_lever = _run(install, tmp_path / "radius", _head(data) + pair["coulomb"].replace(
+        "axis 1.0 0.0 0.0", "axis 1.0 0.0 0.0 history rescale") + _tail(1000))
+    vscale = np.abs(theirs[:, 4:10]).max()
+    assert np.abs(ours[:, 1:4] - theirs[:, 1:4]).max() < 1e-9          # radii are ~1
+    assert np.abs(ours[:, 4:10] - theirs[:, 4:10]).max() < 1e-8 * vscale
+    assert np.abs(radius_lever[:, 4:10] - theirs[:, 4:10]).max() > 1e-4 * vscale
+
+
 @pytest.mark.parametrize("newton", ["on", "off"])
 def test_history_across_two_ranks_hardening(setup, tmp_path, newton):
     """2 ranks (``processors 2 1 1``): no κ and no dissipation below zero after 1,000 steps of
@@ -174,7 +198,8 @@ write_dump all custom counts.dump id i_fr_carrying c_ca
     np.testing.assert_array_equal(rows[:, 1], rows[:, 2])
 
 
-@pytest.mark.parametrize("keywords", ["", "history project dissipation no"])
+@pytest.mark.parametrize("keywords", ["", "history project dissipation no",
+                                      "history rescale lever contact"])
 def test_restart_bit_for_bit(setup, tmp_path, keywords):
     """The packing set in shear motion (``velocity all ramp vx -0.2 0.2 y``, no box deformation;
     the hardening law), 500 steps, ``write_restart``, then in a new LAMMPS ``read_restart``

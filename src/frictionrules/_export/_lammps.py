@@ -290,7 +290,13 @@ def lammps_readme(target, spec, written) -> str:
         "`history project` (LAMMPS's `gran/hooke/history`: the stored displacements projected "
         "on the new contact plane, no twist, a new contact's first step already sliding; with "
         "it the exported Coulomb law reproduces `gran/hooke/history` with no damping to "
-        "round-off); `skin S` (default 0), a contact keeps its history until its gap exceeds "
+        "round-off) or `history rescale` (`pair granular`'s `linear_history`: projected on the "
+        "new plane and rescaled to their length before the step's increment); `lever radius` "
+        "(default: `gran/hooke/history`'s and the DEM engine's) or `lever contact` (`pair "
+        "granular`'s): the tangential force's moment on an atom has the lever r or r − δ/2, the "
+        "distance to the middle of the overlap δ; with `history rescale lever contact` the "
+        "exported Coulomb law reproduces `pair granular ... hooke ... tangential "
+        "linear_history` with no damping to round-off; `skin S` (default 0), a contact keeps its history until its gap exceeds "
         "S (below); `affine yes|no` (default no), the box's velocity gradient `L l` in the "
         "tangential increment, for `fix deform ... remap x` only (LAMMPS stops with "
         "`remap v`, whose velocities carry it already); `dissipation yes|no` (default yes): "
@@ -335,16 +341,20 @@ def lammps_readme(target, spec, written) -> str:
         "`gap − dp_n` (the same trial) (a new contact: `Δδt = 0`, `Δδn = gap`, the law's "
         "initial internal variables);",
         "- force on `a`: `T1 t1 + T2 t2 − N n` (N > 0 in compression), on `b` its opposite; "
-        "the moment on either atom its radius times `n × (T1 t1 + T2 t2 − N n)`;",
+        "the moment on either atom its radius (`lever contact`: r − δ/2) times "
+        "`n × (T1 t1 + T2 t2 − N n)`;",
         "- the first force computation of a `run` (LAMMPS's setup) changes no history: a "
         "contact gives the force of its last step.", "",
         "With `history project` the two middle points are those of `gran/hooke/history` "
         "instead: the stored vectors are projected on the new contact plane (they shorten as "
         "the normal turns), nothing turns them about the normal, and a new contact takes the "
-        "tangential increment of its first step.", "",
+        "tangential increment of its first step. `history rescale` as `history project`, but "
+        "the stored vectors are projected and rescaled to their length before the increment.",
+        "",
         "A failed return map (no convergence even after 2^10 substeps) stops LAMMPS "
         "(`error->one`) naming both atom IDs and the increment.", "",
-        f"## Per-contact history ({nhist} values, {nhist - 3} with `history project`, 2 "
+        f"## Per-contact history ({nhist} values, {nhist - 3} with `history project` or "
+        "`rescale`, 2 "
         "fewer with `dissipation no`)", "",
         "Kept by LAMMPS's fix NEIGH_HISTORY (its ID is `NEIGH_HISTORY_FR0` for the first pair "
         "style instance), written to and read from restart files with the atoms. Every value "

@@ -35,14 +35,16 @@ template <int TALLY, int COUNT> void FR_CLASS::dispatch(const double *L, int *ca
 {
   if (update->setupflag)
     project ? eval<0, 1, 0, TALLY, COUNT>(L, carrying) : eval<0, 0, 0, TALLY, COUNT>(L, carrying);
-  else if (project)
+  else if (project == 1)
     affine ? eval<1, 1, 1, TALLY, COUNT>(L, carrying) : eval<1, 1, 0, TALLY, COUNT>(L, carrying);
+  else if (project == 2)
+    affine ? eval<1, 2, 1, TALLY, COUNT>(L, carrying) : eval<1, 2, 0, TALLY, COUNT>(L, carrying);
   else
     affine ? eval<1, 0, 1, TALLY, COUNT>(L, carrying) : eval<1, 0, 0, TALLY, COUNT>(L, carrying);
 }
 
-/* The contact loop: COMMIT (not LAMMPS's setup: the history moves on), PROJECT (history
-   project), AFFINE (affine yes: Lr the box's velocity gradient), TALLY (dissipation yes), COUNT
+/* The contact loop: COMMIT (not LAMMPS's setup: the history moves on), PROJECT (1 history
+   project, 2 history rescale; setup reads no stored history, so it runs as 1 for both), AFFINE (affine yes: Lr the box's velocity gradient), TALLY (dissipation yes), COUNT
    (the property fr_carrying defined: each atom's contacts with N > 0 added to carrying). */
 template <int COMMIT, int PROJECT, int AFFINE, int TALLY, int COUNT>
 void FR_CLASS::eval(const double *Lr, int *carrying)
@@ -66,6 +68,7 @@ void FR_CLASS::eval(const double *Lr, int *carrying)
   const double *p1 = atom->ntypes == 1 ? params(1, 1) : nullptr;
   const double skin = this->skin;
   const int reach_on = skin > 0.0;
+  const int at_contact = lever;    // the torques' lever r - delta/2 (pair granular's), or r
   const double axis[3] = {this->axis[0], this->axis[1], this->axis[2]};
   const int stride = H.size;
   const double L[6] = {Lr[0], Lr[1], Lr[2], Lr[3], Lr[4], Lr[5]};
@@ -107,6 +110,16 @@ void FR_CLASS::eval(const double *Lr, int *carrying)
         if (!fresh) {
           if (PROJECT) {    // gran/hooke/history: projected on the new plane (below), no twist
             for (int c = 0; c < 3; c++) e[c] = h[H_ET + c];
+            if (PROJECT == 2) {
+              // pair granular's linear_history: projected on the new plane and rescaled to its
+              // length before the increment (its operations, in its order)
+              const double en = e[0] * n[0] + e[1] * n[1] + e[2] * n[2];
+              const double before = sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+              for (int c = 0; c < 3; c++) e[c] -= en * n[c];
+              const double after = sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+              const double scale = after > 0.0 ? before / after : 0.0;
+              for (int c = 0; c < 3; c++) e[c] *= scale;
+            }
           } else {
             const double *n0 = h + H.n0;
             const double m[3] = {n0[0] + n[0], n0[1] + n[1], n0[2] + n[2]};
@@ -204,19 +217,20 @@ void FR_CLASS::eval(const double *Lr, int *carrying)
       const double ng[3] = {n[1] * g[2] - n[2] * g[1], n[2] * g[0] - n[0] * g[2],
                             n[0] * g[1] - n[1] * g[0]};
       const double fi[3] = {sg * g[0], sg * g[1], sg * g[2]};    // g on a, -g on b
+      const double li = at_contact ? ri + 0.5 * gap : ri, lj = at_contact ? rj + 0.5 * gap : rj;
       f[i][0] += fi[0];
       f[i][1] += fi[1];
       f[i][2] += fi[2];
-      torque[i][0] += ri * ng[0];
-      torque[i][1] += ri * ng[1];
-      torque[i][2] += ri * ng[2];
+      torque[i][0] += li * ng[0];
+      torque[i][1] += li * ng[1];
+      torque[i][2] += li * ng[2];
       if (newton_pair || j < nlocal) {
         f[j][0] -= fi[0];
         f[j][1] -= fi[1];
         f[j][2] -= fi[2];
-        torque[j][0] += rj * ng[0];
-        torque[j][1] += rj * ng[1];
-        torque[j][2] += rj * ng[2];
+        torque[j][0] += lj * ng[0];
+        torque[j][1] += lj * ng[1];
+        torque[j][2] += lj * ng[2];
       }
       if (evflag)
         ev_tally_xyz(i, j, nlocal, newton_pair, 0.0, 0.0, fi[0], fi[1], fi[2], -d0, -d1, -d2);

@@ -137,9 +137,9 @@ void FR_CLASS::read_restart(FILE *fp)
 
 void FR_CLASS::write_restart_settings(FILE *fp)
 {
-  const int sizes[7] = {FR_NPARAMS, nhistory(), project, affine, tally, box0_set,
-                        history_instance};
-  fwrite(sizes, sizeof(int), 7, fp);
+  const int sizes[8] = {FR_NPARAMS, nhistory(), project, affine, tally, box0_set,
+                        history_instance, lever};
+  fwrite(sizes, sizeof(int), 8, fp);
   fwrite(axis, sizeof(double), 3, fp);
   fwrite(&skin, sizeof(double), 1, fp);
   fwrite(box0, sizeof(double), 6, fp);    // the last pass's box: the restarted L as the run's
@@ -147,15 +147,16 @@ void FR_CLASS::write_restart_settings(FILE *fp)
 
 void FR_CLASS::read_restart_settings(FILE *fp)
 {
-  int sizes[7] = {0, 0, 0, 0, 0, 0, 0};
+  int sizes[8] = {0, 0, 0, 0, 0, 0, 0, 0};
   if (comm->me == 0) {
-    utils::sfread(FLERR, sizes, sizeof(int), 7, fp, nullptr, error);
+    utils::sfread(FLERR, sizes, sizeof(int), 8, fp, nullptr, error);
     utils::sfread(FLERR, axis, sizeof(double), 3, fp, nullptr, error);
     utils::sfread(FLERR, &skin, sizeof(double), 1, fp, nullptr, error);
     utils::sfread(FLERR, box0, sizeof(double), 6, fp, nullptr, error);
   }
-  MPI_Bcast(sizes, 7, MPI_INT, 0, world);
+  MPI_Bcast(sizes, 8, MPI_INT, 0, world);
   project = sizes[2];
+  lever = sizes[7];
   affine = sizes[3];
   tally = sizes[4];
   box0_set = sizes[5];

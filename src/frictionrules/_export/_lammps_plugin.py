@@ -177,7 +177,10 @@ class FR_CLASS : public Pair {
  protected:
   class Fix *fix_history;    // the fix NEIGH_HISTORY holding every contact's history
   double axis[3];            // the frame's reference axis (unit)
-  int project;               // history kept as LAMMPS's gran/hooke/history does (keyword)
+  int project;               // history: 0 rotate, 1 project (gran/hooke/history), 2 rescale
+                             // (pair granular's linear_history) (keyword)
+  int lever;                 // the torques' lever: 0 the radius, 1 the distance to the
+                             // middle of the overlap, r - delta/2 (keyword)
   int tally;                 // the history keeps the dissipation and the status (keyword)
   double skin;               // a contact with a history lives until its gap exceeds it
   int affine;                // add the box's velocity gradient L l to the increment

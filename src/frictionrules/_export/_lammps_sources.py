@@ -191,7 +191,7 @@ static inline void fr_turn(const double *u, const double *m, double k, const dou
 }
 
 FR_CLASS::FR_CLASS(LAMMPS *lmp) :
-    Pair(lmp), fix_history(nullptr), project(0), tally(1), skin(0.0), affine(0), coeffs(nullptr),
+    Pair(lmp), fix_history(nullptr), project(0), lever(0), tally(1), skin(0.0), affine(0), coeffs(nullptr),
     maxrad(0.0), stride(0), box0_set(0), history_instance(instance_me)
 {
   for (int k = 0; k < 6; k++) box0[k] = 0.0;
@@ -236,8 +236,8 @@ void FR_CLASS::allocate()
   memory->create(coeffs, (n + 1) * (n + 1) * FR_NPARAMS, "pair:coeffs");
 }
 
-/* pair_style frictionrules/NAME [axis ax ay az] [history rotate|project] [skin S]
-   [affine yes|no] [dissipation yes|no] */
+/* pair_style frictionrules/NAME [axis ax ay az] [history rotate|project|rescale]
+   [lever radius|contact] [skin S] [affine yes|no] [dissipation yes|no] */
 void FR_CLASS::settings(int narg, char **arg)
 {
   int iarg = 0;
@@ -255,17 +255,29 @@ void FR_CLASS::settings(int narg, char **arg)
       for (int k = 0; k < 3; k++) axis[k] = a[k] / s;
       iarg += 4;
     } else if (strcmp(arg[iarg], "history") == 0) {
-      if (iarg + 2 > narg) error->all(FLERR, "pair_style " FR_STYLE ": history rotate|project");
+      if (iarg + 2 > narg)
+        error->all(FLERR, "pair_style " FR_STYLE ": history rotate|project|rescale");
       const int was = project;
       if (strcmp(arg[iarg + 1], "rotate") == 0)
         project = 0;
       else if (strcmp(arg[iarg + 1], "project") == 0)
         project = 1;
+      else if (strcmp(arg[iarg + 1], "rescale") == 0)
+        project = 2;
       else
-        error->all(FLERR, "pair_style " FR_STYLE ": history rotate|project");
-      if (fix_history != nullptr && project != was)    // the history's length depends on it
-        error->all(FLERR, "pair_style " FR_STYLE ": history rotate|project cannot change "
-                          "once the pair style has run");
+        error->all(FLERR, "pair_style " FR_STYLE ": history rotate|project|rescale");
+      if (fix_history != nullptr && (project == 0) != (was == 0))    // the history's length
+        error->all(FLERR, "pair_style " FR_STYLE ": history rotate cannot change to or from "
+                          "project or rescale once the pair style has run");
+      iarg += 2;
+    } else if (strcmp(arg[iarg], "lever") == 0) {
+      if (iarg + 2 > narg) error->all(FLERR, "pair_style " FR_STYLE ": lever radius|contact");
+      if (strcmp(arg[iarg + 1], "radius") == 0)
+        lever = 0;
+      else if (strcmp(arg[iarg + 1], "contact") == 0)
+        lever = 1;
+      else
+        error->all(FLERR, "pair_style " FR_STYLE ": lever radius|contact");
       iarg += 2;
     } else if (strcmp(arg[iarg], "skin") == 0) {
       if (iarg + 2 > narg) error->all(FLERR, "pair_style " FR_STYLE ": skin needs a length");
@@ -290,8 +302,8 @@ void FR_CLASS::settings(int narg, char **arg)
       iarg += 2;
     } else {
       error->all(FLERR, std::string("pair_style " FR_STYLE ": unknown keyword ") + arg[iarg]
-                        + " (keywords: axis ax ay az, history rotate|project, skin S, "
-                          "affine yes|no, dissipation yes|no)");
+                        + " (keywords: axis ax ay az, history rotate|project|rescale, "
+                          "lever radius|contact, skin S, affine yes|no, dissipation yes|no)");
     }
   }
 }
