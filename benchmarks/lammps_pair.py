@@ -15,7 +15,8 @@ kn = kt = 1e4, μ = 0.3, by
 - the exported ``Coulomb(0.3)`` (``frictionrules/coulomb``), with the engine's kinematics (the
   default) and with ``history project`` (gran/hooke/history's), each with and without
   ``dissipation no`` (the history without the dissipation and the status), and with μ = 0 in
-  its ``pair_coeff`` (frictionless: the structured return's T = 0).
+  its ``pair_coeff`` (frictionless: the structured return's T = 0), and with ``history
+  rescale lever contact dissipation no`` (``pair granular``'s kinematics).
 
 After 100 steps of warm-up, ``--steps`` steps are timed. The styles run in turn, one LAMMPS
 process each, ``--repeats`` rounds (interleaved, so that the machine's other load falls on all
@@ -155,6 +156,8 @@ def main(argv=None) -> None:
             "frictionrules/coulomb history project dissipation no":
                 keywords("history project dissipation no"),
             "frictionrules/coulomb, mu = 0": ours.replace(f" {MU!r}\n", " 0.0\n"),
+            "frictionrules/coulomb history rescale lever contact dissipation no":
+                keywords("history rescale lever contact dissipation no"),
         }
         if len(args.ranks) > 1:
             keep = ("gran/hooke/history", "frictionrules/coulomb",
