@@ -400,19 +400,68 @@ def test_error_measured_at_the_last_iteration_at_tolerance_zero():
 def test_rho_change_stays_in_its_band():
     """The residuals' balance (ratio 10) asks +1 or -1; a step leaving [lo, hi] is refused,
     a step from outside towards the band is kept."""
-    limits = np.zeros(10)
-    limits[2], limits[7], limits[8], limits[9] = 10.0, 1.0, 8.0, 2.0
-    assert S.rho_change(100.0, 1.0, 2.0, limits) == 1
-    assert S.rho_change(1.0, 100.0, 2.0, limits) == -1
-    assert S.rho_change(5.0, 1.0, 2.0, limits) == 0
-    assert S.rho_change(100.0, 1.0, 8.0, limits) == 0         # 16 > hi
-    assert S.rho_change(1.0, 100.0, 1.0, limits) == 0         # 0.5 < lo
-    assert S.rho_change(1.0, 100.0, 64.0, limits) == -1       # above the band, towards it
-    assert S.rho_change(100.0, 1.0, 0.25, limits) == 1        # below the band, towards it
+    limits = np.zeros(11)
+    limits[2], limits[7], limits[8], limits[9], limits[10] = 10.0, 1.0, 8.0, 2.0, 8.0
+    assert S.rho_change(100.0, 1.0, 2.0, 0, limits) == 1
+    assert S.rho_change(1.0, 100.0, 2.0, 0, limits) == -1
+    assert S.rho_change(5.0, 1.0, 2.0, 0, limits) == 0
+    assert S.rho_change(100.0, 1.0, 8.0, 0, limits) == 0         # 16 > hi
+    assert S.rho_change(1.0, 100.0, 1.0, 0, limits) == 0         # 0.5 < lo
+    assert S.rho_change(1.0, 100.0, 64.0, 0, limits) == -1       # above the band, towards it
+    assert S.rho_change(100.0, 1.0, 0.25, 0, limits) == 1        # below the band, towards it
+
+
+def test_rho_streak_doubles_its_levels():
+    """A run of changes the same way, each as soon as allowed: 1, 1, 2, 4, 8, 8 levels
+    (``rho_levels_max`` 8), so 2^k levels in about k + 2 changes; a change the other way, or
+    one after a pause, starts again at one level; within the band only the levels that fit."""
+    limits = np.zeros(11)
+    limits[2], limits[7], limits[8], limits[9], limits[10] = 10.0, 2.0 ** -40, 1.0, 2.0, 8.0
+    rho, streak, levels = 1.0, 0, []
+    for _ in range(6):
+        change = S.rho_change(1.0, 100.0, rho, streak, limits)
+        streak = S.rho_streak(streak, change, True)
+        rho *= 2.0 ** change
+        levels.append(change)
+    assert levels == [-1, -1, -2, -4, -8, -8] and streak == -6
+    assert S.rho_change(100.0, 1.0, rho, streak, limits) == 1          # the other way
+    assert S.rho_streak(streak, 1, True) == 1
+    assert S.rho_streak(streak, -1, False) == -1                       # after a pause
+    assert S.rho_change(1.0, 100.0, 2.0 ** -37, -5, limits) == -3      # 2^-40 is the band's end
+    limits[10] = 1.0
+    assert S.rho_change(1.0, 100.0, 1.0, -5, limits) == -1             # rho_levels_max = 1
+
+
+@needs_fclib
+def test_rho_streak_factorizes_less_on_spheres_in_a_box():
+    """spheres-in-a-box: rho drifts down from its spectral start by eleven levels; with jumps
+    of up to 8 levels its first 120 iterations factorize fewer times than level by level, and
+    its iterates at the iterations before the first jump are the same."""
+    from frictionrules import ADMMOptions, read_fclib, solve
+    from frictionrules.multicontact import _admm
+    p = read_fclib(FCLIB / "spheres-in-a-box-98-i10000-256-10.hdf5")
+    counts = []
+    for levels in (1, 8):
+        made = []
+        original = _admm._Factor.__init__
+
+        def counting(self, fr, c, original=original, made=made):
+            made.append(c)
+            original(self, fr, c)
+        _admm._Factor.__init__ = counting
+        try:
+            s = solve(p, method="admm", tol=0.0, max_iter=120, options=ADMMOptions(rho_levels_max=levels,
+                                                                                    max_check_interval=1))
+        finally:
+            _admm._Factor.__init__ = original
+        counts.append((len(made), s.history[:14]))
+    assert counts[1][0] < counts[0][0] - 3
+    np.testing.assert_array_equal(counts[0][1], counts[1][1])
 
 
 @pytest.mark.parametrize("kw, name", [({"max_check_interval": 0}, "max_check_interval"),
                                       ({"rho_min": -1.0}, "rho_min"),
+                                      ({"rho_levels_max": 0}, "rho_levels_max"),
                                       ({"rho_min": 1.0, "rho_max": 0.5}, "rho_max")])
 def test_admm_options_name_the_bad_argument(kw, name):
     from frictionrules import ADMMOptions, FrictionRulesError

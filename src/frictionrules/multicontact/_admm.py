@@ -283,21 +283,23 @@ def run_admm(fr: _Frame, r, max_iter: int, mon: _Monitor, opts: ADMMOptions):
     anderson = _Anderson(opts.anderson) if opts.anderson > 0 else None
     v = np.concatenate((y, z))
     safe_v, safe_res, extrapolated = v, np.inf, False
-    last_update, it, paused_until = 0, 0, 0
+    last_update, it, paused_until, streak = 0, 0, 0, 0
     best_r, best_err = y.copy(), np.inf
     compiled = mon.callback is None and mon.handover is None
     memory = anderson.buffers(2 * n) if anderson is not None else (
         np.empty(0), np.empty(0), np.empty((0, 2 * n)), np.empty((0, 2 * n)), np.empty((0, 0)),
         np.zeros(2, np.int64))
     limits = np.array([mon.tol, fr.r_bound, opts.ratio_primal_dual, max_iter, opts.rho_update_every,
-                       opts.anderson_pause, opts.max_check_interval, opts.rho_min * L, opts.rho_max * L, step],
+                       opts.anderson_pause, opts.max_check_interval, opts.rho_min * L, opts.rho_max * L, step,
+                       opts.rho_levels_max],
                       dtype=float)
     next_check, last_measured, last_err = 1, 0, np.inf
     errs, its = np.empty(COMPILED_BATCH), np.empty(COMPILED_BATCH, np.int64)
     while it < max_iter:
         if compiled and factor.arrays is not None and factor.kept is None and factor.refine is not None:
             x, v, safe_v, best_r, y_last = x.copy(), v.copy(), safe_v.copy(), best_r.copy(), np.empty(n)
-            ints = np.array([it, last_update, paused_until, extrapolated, next_check, last_measured], dtype=np.int64)
+            ints = np.array([it, last_update, paused_until, extrapolated, next_check, last_measured, streak],
+                            dtype=np.int64)
             floats = np.array([safe_res, best_err, last_err])
             count, change = S.admm_loop(*factor.arrays, factor.refine, *_compiled_w(fr), q, mu, d, fr.norm_q,
                                         rho, eta, x, v, s, safe_v, y_last, best_r, *memory, ints, floats, limits,
@@ -305,6 +307,7 @@ def run_admm(fr: _Frame, r, max_iter: int, mon: _Monitor, opts: ADMMOptions):
             it, last_update, paused_until, extrapolated = int(ints[0]), int(ints[1]), int(ints[2]), bool(ints[3])
             safe_res, best_err = float(floats[0]), float(floats[1])
             next_check, last_measured, last_err = int(ints[4]), int(ints[5]), float(floats[2])
+            streak = int(ints[6])
             if count and mon.record_many("admm", its[:count], y_last, errs[:count]):
                 return y_last, int(its[count - 1])
             if change:
@@ -328,8 +331,10 @@ def run_admm(fr: _Frame, r, max_iter: int, mon: _Monitor, opts: ADMMOptions):
         if mon.record("admm", it, y_new, err):
             return y_new.copy(), it
         if it - last_update >= opts.rho_update_every and max(primal, dual) > 0:
-            change = S.rho_change(primal, dual, rho, limits)
+            consecutive = it - last_update <= opts.rho_update_every
+            change = S.rho_change(primal, dual, rho, streak if consecutive else 0, limits)
             if change != 0:
+                streak = S.rho_streak(streak, change, consecutive)
                 level += change
                 rho = rho0 * step ** level
                 factor = _factor(fr, rho + eta)

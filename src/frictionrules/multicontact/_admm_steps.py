@@ -408,18 +408,40 @@ def csr_factors(L, U):
 
 
 @njit(cache=True)
-def rho_change(primal, dual, rho, limits):
-    r"""The change of :math:`\rho`'s level asked by the residuals' balance: +1 (:math:`\rho`
-    times ``limits[9]``) when the primal residual exceeds ``limits[2]`` times the dual one,
-    -1 in the opposite case, 0 otherwise and where the new :math:`\rho` would leave
-    ``[limits[7], limits[8]]`` (a change from outside towards it is kept)."""
+def rho_change(primal, dual, rho, streak, limits):
+    r"""The change of :math:`\rho`'s level asked by the residuals' balance: up (:math:`\rho`
+    times ``limits[9]`` per level) when the primal residual exceeds ``limits[2]`` times the
+    dual one, down in the opposite case, 0 otherwise. ``streak``: the changes just before,
+    signed, each made as soon as allowed and the same way (:func:`rho_streak`); after k >= 2
+    of them this one the same way is of :math:`2^{k-1}` levels (at most ``limits[10]``), one
+    otherwise: a drift of :math:`\rho` by :math:`2^k` levels costs about k + 2
+    factorizations, not :math:`2^k`. Levels that would take :math:`\rho` out of
+    ``[limits[7], limits[8]]`` are left out (a change from outside towards it is kept)."""
     lo, hi, step = limits[7], limits[8], limits[9]
-    change = 1 if primal > limits[2] * dual else (-1 if dual > limits[2] * primal else 0)
+    sign = 1 if primal > limits[2] * dual else (-1 if dual > limits[2] * primal else 0)
+    if sign == 0:
+        return 0
+    levels = 1
+    if streak * sign >= 2:
+        levels = min(np.int64(1) << min(abs(streak) - 1, 30), max(np.int64(limits[10]), 1))
+    change = sign * levels
+    while change > 1 and rho * step ** change > hi:
+        change -= 1
+    while change < -1 and rho * step ** change < lo:
+        change += 1
     if change > 0 and rho * step > hi and rho >= lo:
         return 0
     if change < 0 and rho / step < lo and rho <= hi:
         return 0
     return change
+
+
+@njit(cache=True)
+def rho_streak(streak, change, consecutive):
+    """The streak of :func:`rho_change` after a change ``change`` (nonzero), ``consecutive``
+    when it came as soon as allowed after the last one."""
+    sign = 1 if change > 0 else -1
+    return streak + sign if consecutive and streak * sign > 0 else sign
 
 
 @njit(cache=True)
@@ -452,7 +474,7 @@ def admm_loop(lp, li, lx, up, ui, ux, ud, rows, cols, triples, refine, wp, wi, w
     on a change of :math:`\rho`."""
     n = q.size
     it, last_update, paused_until, extrapolated = ints[0], ints[1], ints[2], ints[3] != 0
-    next_check, last_it = ints[4], ints[5]
+    next_check, last_it, streak = ints[4], ints[5], ints[6]
     safe_res, best_err, last_err = floats[0], floats[1], floats[2]
     tol, r_bound = limits[0], limits[1]
     max_iter, every, pause = np.int64(limits[3]), np.int64(limits[4]), np.int64(limits[5])
@@ -490,8 +512,10 @@ def admm_loop(lp, li, lx, up, ui, ux, ud, rows, cols, triples, refine, wp, wi, w
             next_check = it + K.check_interval(hist_err, hist_it, 2 if last_it > 0 else 1, err, tol, max_interval)
             last_err, last_it = err, it
         if it - last_update >= every and max(primal, dual) > 0:
-            change = rho_change(primal, dual, rho, limits)
+            consecutive = it - last_update <= every
+            change = rho_change(primal, dual, rho, streak if consecutive else 0, limits)
             if change != 0:
+                streak = rho_streak(streak, change, consecutive)
                 last_update = it
                 astate[:] = 0
         safe_v[:] = tv
@@ -504,6 +528,6 @@ def admm_loop(lp, li, lx, up, ui, ux, ud, rows, cols, triples, refine, wp, wi, w
         if change != 0:
             break
     ints[0], ints[1], ints[2], ints[3] = it, last_update, paused_until, np.int64(extrapolated)
-    ints[4], ints[5] = next_check, last_it
+    ints[4], ints[5], ints[6] = next_check, last_it, streak
     floats[0], floats[1], floats[2] = safe_res, best_err, last_err
     return count, change

