@@ -72,9 +72,18 @@ def _product(fr: _Frame):
 #: KaplasTower (167) 310 against 226.
 COMPILED_FILL_MAX = 100
 
+#: W + cI is factorized dense (LAPACK) up to this many unknowns where W stores at least
+#: :data:`DENSE_MIN_FILL` of its entries, by SuperLU otherwise. Measured under load, one
+#: factorization, dense against SuperLU: Box_Stacks (246 unknowns, W 3.3 % full) 0.56 against
+#: 0.18 ms; local_problem_test (144, 24 %) 0.19 against 0.35; PerioBox (180, 30 %) 0.30
+#: against 0.59.
+DENSE_MAX = 400
+DENSE_MIN_FILL = 0.1
+
 
 class _Factor:
-    r"""Solves with :math:`A = W + c I`: dense LU up to 400 unknowns, SuperLU otherwise.
+    r"""Solves with :math:`A = W + c I`: dense LU up to 400 unknowns where W is at least a tenth
+    full (:data:`DENSE_MAX`, :data:`DENSE_MIN_FILL`), SuperLU otherwise.
 
     SuperLU runs on diagonal pivots in symmetric mode (the fastest, and W is symmetric or
     nearly so), which can cost digits on a nonsymmetric W: when a test solve (beside the first
@@ -92,7 +101,8 @@ class _Factor:
     (:func:`._admm_steps.admm_iteration`); ``arrays`` is None otherwise.
 
     The first solve is kept for the next call: ADMM's first iteration in the all-stick regime
-    solves with ``-q`` again, as :func:`all_stick` did (0.2 ms on KaplasTower).
+    solves with ``-q`` again, as :func:`all_stick` did (0.2 ms on KaplasTower). With SuperLU's
+    factors in ``arrays`` the test solve is made at once (compiled) and nothing is kept.
     """
 
     def __init__(self, fr: _Frame, c: float):
@@ -102,7 +112,7 @@ class _Factor:
         self.first, self.kept = True, None
         self.c, self.fr = c, fr
         self.arrays = None
-        if n <= 400:
+        if n <= DENSE_MAX and W.nnz >= DENSE_MIN_FILL * n * n:
             import scipy.linalg as sla
             if "dense_w" not in fr.cache:
                 fr.cache["dense_w"] = W.toarray()
@@ -137,6 +147,12 @@ class _Factor:
             factors = S.csr_factors(lu.L, lu.U)
             self.arrays = factors + (perm[rinv], perm[cinv], S.contact_triples(factors[0], factors[1], factors[3],
                                                                               factors[4]))
+            # the test solve now, compiled: ADMM's next iteration then runs in the compiled loop
+            # (two iterations in Python after each new factorization otherwise, 0.1-0.3 ms)
+            t = np.random.default_rng(1).normal(size=n)
+            self.refine = bool(norm(self._residual(S.lu_solve(*self.arrays, t), t)) > 1e-12 * norm(t))
+            self.first = False
+            return
         else:
             def solve(b):
                 x = np.empty_like(b)
