@@ -340,16 +340,27 @@ def test_dense_factors_rebuild_lapacks_lu():
 
 
 @needs_fclib
-@pytest.mark.parametrize("name, anderson", [("Capsules-i125-1213.hdf5", 5), ("Spheres-i099-356-679.hdf5", 5),
-                                            ("local_problem_test.hdf5", 0)])
-def test_compiled_loop_is_the_python_loop(name, anderson):
+@pytest.mark.parametrize("name, anderson, doublings", [("Capsules-i125-1213.hdf5", 5, 0),
+                                                       ("Capsules-i125-1213.hdf5", 5, 2),
+                                                       ("Spheres-i099-356-679.hdf5", 5, 0),
+                                                       ("local_problem_test.hdf5", 0, 0),
+                                                       ("spheres-in-a-box-98-i10000-256-10.hdf5", 5, 0)])
+def test_compiled_loop_is_the_python_loop(name, anderson, doublings):
     """ADMM's iterations in one compiled loop (no callback) and one by one in Python (a
     callback that never stops the run): with the error measured at every iteration
     (``max_check_interval=1``), the same errors at every iteration (the compiled error sums as
-    the frame's), the same answer."""
+    the frame's), the same answer; also with Anderson's pause doubled after repeated drops and
+    on spheres-in-a-box, whose rho jumps by several levels (120 iterations there)."""
     from frictionrules import ADMMOptions, read_fclib, solve
     p = read_fclib(FCLIB / name)
-    opts = ADMMOptions(anderson=anderson, max_check_interval=1)
+    opts = ADMMOptions(anderson=anderson, max_check_interval=1, anderson_pause_doublings=doublings)
+    if name.startswith("spheres-in"):
+        a = solve(p, method="admm", tol=0.0, max_iter=120, options=opts)
+        seen = []
+        b = solve(p, method="admm", tol=0.0, max_iter=120, options=opts, callback=lambda info: seen.append(info.error))
+        np.testing.assert_allclose(a.history, seen, rtol=1e-9)
+        np.testing.assert_allclose(a.r, b.r, rtol=1e-9, atol=1e-12 * np.abs(b.r).max())
+        return
     seen = []
     a = solve(p, method="admm", tol=1e-8, options=opts)
     b = solve(p, method="admm", tol=1e-8, options=opts, callback=lambda info: seen.append(info.error))
@@ -411,6 +422,13 @@ def test_rho_change_stays_in_its_band():
     assert S.rho_change(100.0, 1.0, 0.25, 0, limits) == 1        # below the band, towards it
 
 
+def test_anderson_pause_doubles_after_repeated_drops():
+    """The pause after the k-th drop in a row (k = 0, 1, ...) is pause 2^k, k at most the
+    doublings allowed; with none allowed it is the plain pause."""
+    assert [S.pause_length(10, k, 2.0) for k in range(5)] == [10, 20, 40, 40, 40]
+    assert [S.pause_length(10, k, 0.0) for k in range(3)] == [10, 10, 10]
+
+
 def test_rho_streak_doubles_its_levels():
     """A run of changes the same way, each as soon as allowed: 1, 1, 2, 4, 8, 8 levels
     (``rho_levels_max`` 8), so 2^k levels in about k + 2 changes; a change the other way, or
@@ -462,6 +480,7 @@ def test_rho_streak_factorizes_less_on_spheres_in_a_box():
 @pytest.mark.parametrize("kw, name", [({"max_check_interval": 0}, "max_check_interval"),
                                       ({"rho_min": -1.0}, "rho_min"),
                                       ({"rho_levels_max": 0}, "rho_levels_max"),
+                                      ({"anderson_pause_doublings": -1}, "anderson_pause_doublings"),
                                       ({"rho_min": 1.0, "rho_max": 0.5}, "rho_max")])
 def test_admm_options_name_the_bad_argument(kw, name):
     from frictionrules import ADMMOptions, FrictionRulesError

@@ -69,8 +69,12 @@ def _product(fr: _Frame):
 #: compiled against SuperLU: Spheres (6.8 per unknown) 17 against 58 µs, Capsules (13.9) 20
 #: against 62, the 1,264 boxes (22.9) 89 against 219, spheres-in-a-box (45) 30 against 87, the
 #: 1,812 spheres (91) 535 against 590; the 3,970 spheres (135) 2,850 against 2,630,
-#: KaplasTower (167) 310 against 226.
-COMPILED_FILL_MAX = 100
+#: KaplasTower (167) 310 against 226. The compiled loop also measures the error at intervals
+#: (one product with W, not one per iteration) and runs no Python per iteration: ADMM's
+#: marginal cost on the 3,970 spheres 3,070 µs an iteration with the compiled solves against
+#: 3,440 with SuperLU's (two interleaved pairs, under load); KaplasTower's 520-595 against
+#: 450-560, left to SuperLU.
+COMPILED_FILL_MAX = 150
 
 #: W + cI is factorized dense (LAPACK) up to this many unknowns where W stores at least
 #: :data:`DENSE_MIN_FILL` of its entries, by SuperLU otherwise. Measured under load, one
@@ -299,7 +303,7 @@ def run_admm(fr: _Frame, r, max_iter: int, mon: _Monitor, opts: ADMMOptions):
     anderson = _Anderson(opts.anderson) if opts.anderson > 0 else None
     v = np.concatenate((y, z))
     safe_v, safe_res, extrapolated = v, np.inf, False
-    last_update, it, paused_until, streak = 0, 0, 0, 0
+    last_update, it, paused_until, streak, dropped = 0, 0, 0, 0, 0
     best_r, best_err = y.copy(), np.inf
     compiled = mon.callback is None and mon.handover is None
     memory = anderson.buffers(2 * n) if anderson is not None else (
@@ -307,14 +311,15 @@ def run_admm(fr: _Frame, r, max_iter: int, mon: _Monitor, opts: ADMMOptions):
         np.zeros(2, np.int64))
     limits = np.array([mon.tol, fr.r_bound, opts.ratio_primal_dual, max_iter, opts.rho_update_every,
                        opts.anderson_pause, opts.max_check_interval, opts.rho_min * L, opts.rho_max * L, step,
-                       opts.rho_levels_max],
+                       opts.rho_levels_max,
+                       opts.anderson_pause_doublings],
                       dtype=float)
     next_check, last_measured, last_err = 1, 0, np.inf
     errs, its = np.empty(COMPILED_BATCH), np.empty(COMPILED_BATCH, np.int64)
     while it < max_iter:
         if compiled and factor.arrays is not None and factor.kept is None and factor.refine is not None:
             x, v, safe_v, best_r, y_last = x.copy(), v.copy(), safe_v.copy(), best_r.copy(), np.empty(n)
-            ints = np.array([it, last_update, paused_until, extrapolated, next_check, last_measured, streak],
+            ints = np.array([it, last_update, paused_until, extrapolated, next_check, last_measured, streak, dropped],
                             dtype=np.int64)
             floats = np.array([safe_res, best_err, last_err])
             count, change = S.admm_loop(*factor.arrays, factor.refine, *_compiled_w(fr), q, mu, d, fr.norm_q,
@@ -323,7 +328,7 @@ def run_admm(fr: _Frame, r, max_iter: int, mon: _Monitor, opts: ADMMOptions):
             it, last_update, paused_until, extrapolated = int(ints[0]), int(ints[1]), int(ints[2]), bool(ints[3])
             safe_res, best_err = float(floats[0]), float(floats[1])
             next_check, last_measured, last_err = int(ints[4]), int(ints[5]), float(floats[2])
-            streak = int(ints[6])
+            streak, dropped = int(ints[6]), int(ints[7])
             if count and mon.record_many("admm", its[:count], y_last, errs[:count]):
                 return y_last, int(its[count - 1])
             if change:
@@ -337,8 +342,11 @@ def run_admm(fr: _Frame, r, max_iter: int, mon: _Monitor, opts: ADMMOptions):
         if extrapolated and res > safe_res:   # the extrapolation did not pay: back to the plain step
             anderson.clear()
             v, extrapolated = safe_v, False
-            paused_until = it + opts.anderson_pause
+            paused_until = it + S.pause_length(opts.anderson_pause, dropped, limits[11])
+            dropped += 1
             continue
+        if extrapolated:
+            dropped = 0
         y_new = tv[:n]
         x = x_new
         err = fr.error(y_new, product(y_new, q))

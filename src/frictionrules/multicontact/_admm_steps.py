@@ -437,6 +437,14 @@ def rho_change(primal, dual, rho, streak, limits):
 
 
 @njit(cache=True)
+def pause_length(pause, dropped, doublings):
+    """Anderson's pause after a dropped extrapolation: ``pause`` iterations, doubled for each
+    of the ``dropped`` extrapolations dropped before it with none kept between, at most
+    ``doublings`` times."""
+    return pause << min(dropped, np.int64(doublings))
+
+
+@njit(cache=True)
 def rho_streak(streak, change, consecutive):
     """The streak of :func:`rho_change` after a change ``change`` (nonzero), ``consecutive``
     when it came as soon as allowed after the last one."""
@@ -465,16 +473,18 @@ def admm_loop(lp, li, lx, up, ui, ux, ud, rows, cols, triples, refine, wp, wi, w
     The run's state is read and written in place: ``x``, ``v = (y, z)``, ``s``, the last
     plain ``safe_v``, the last y and the best one (``y``, ``best_r``), Anderson's memory
     (:func:`anderson_update`; none when ``dG`` has no row; ``limits[5]``: its pause after a
-    dropped extrapolation), ``ints`` = (iteration, iteration of the last change of
-    :math:`\rho`, end of the pause, whether v is extrapolated, next measure, iteration of the
-    last measure), ``floats`` = (residual of ``safe_v``, best error, last error measured).
+    dropped extrapolation, doubled at most ``limits[11]`` times, :func:`pause_length`),
+    ``ints`` = (iteration, iteration of the last change of :math:`\rho`, end of the pause,
+    whether v is extrapolated, next measure, iteration of the last measure, the streak of
+    :math:`\rho`'s changes (:func:`rho_streak`; ``limits[10]``: the most levels of one), the
+    extrapolations dropped with none kept since), ``floats`` = (residual of ``safe_v``, best error, last error measured).
     The errors measured and their iteration numbers go to ``errs`` and ``its``. Returns
     ``(recorded, change)``: change +1 (raise :math:`\rho`), -1 (lower it), 0 (none); the last
     iteration of the call is recorded unless it was a dropped extrapolation or the call ends
     on a change of :math:`\rho`."""
     n = q.size
     it, last_update, paused_until, extrapolated = ints[0], ints[1], ints[2], ints[3] != 0
-    next_check, last_it, streak = ints[4], ints[5], ints[6]
+    next_check, last_it, streak, dropped = ints[4], ints[5], ints[6], ints[7]
     safe_res, best_err, last_err = floats[0], floats[1], floats[2]
     tol, r_bound = limits[0], limits[1]
     max_iter, every, pause = np.int64(limits[3]), np.int64(limits[4]), np.int64(limits[5])
@@ -492,8 +502,11 @@ def admm_loop(lp, li, lx, up, ui, ux, ud, rows, cols, triples, refine, wp, wi, w
             astate[:] = 0
             v[:] = safe_v
             extrapolated = False
-            paused_until = it + pause
+            paused_until = it + pause_length(pause, dropped, limits[11])
+            dropped += 1
             continue
+        if extrapolated:
+            dropped = 0
         x[:] = x_new
         y[:] = tv[:n]
         y_norm = np.sqrt(np.dot(y, y))
@@ -528,6 +541,6 @@ def admm_loop(lp, li, lx, up, ui, ux, ud, rows, cols, triples, refine, wp, wi, w
         if change != 0:
             break
     ints[0], ints[1], ints[2], ints[3] = it, last_update, paused_until, np.int64(extrapolated)
-    ints[4], ints[5], ints[6] = next_check, last_it, streak
+    ints[4], ints[5], ints[6], ints[7] = next_check, last_it, streak, dropped
     floats[0], floats[1], floats[2] = safe_res, best_err, last_err
     return count, change
