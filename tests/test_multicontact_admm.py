@@ -163,6 +163,24 @@ def test_factor_with_the_contact_ordering_solves(nonsymmetric):
     assert np.all(perm[1::3] == perm[0::3] + 1) and np.all(perm[0::3] % 3 == 0)
 
 
+def test_refinement_only_where_it_pays():
+    """A step of iterative refinement is taken where the test solve misses 1e-12 relative
+    residual and the step at least halves it: not on an exact solve, yes on a solve off by
+    1e-6, not where the correction does not lower the residual (a solver returning zeros: the
+    round-off of an ill-conditioned A behaves so)."""
+    nc = 200
+    W = block_matrix(nc, 4, density=0.02)
+    fr = _Frame(FrictionContactProblem(W, np.ones(3 * nc), np.full(nc, 0.5)))
+    f = _Factor(fr, 0.1)
+    b = np.random.default_rng(6).normal(size=3 * nc)
+    x = np.linalg.solve(fr.W.toarray() + 0.1 * np.eye(3 * nc), b)
+    assert not f._refines(x, b)
+    off = x * (1 + 1e-6 * np.random.default_rng(7).normal(size=x.size))
+    assert f._refines(off, b)
+    f._solve = np.zeros_like
+    assert not f._refines(off, b)
+
+
 @pytest.mark.parametrize("drop", [(), (4,)])
 def test_products_and_power_iteration_have_scipys_bits(drop):
     nc = 150
