@@ -163,6 +163,38 @@ def test_factor_with_the_contact_ordering_solves(nonsymmetric):
     assert np.all(perm[1::3] == perm[0::3] + 1) and np.all(perm[0::3] % 3 == 0)
 
 
+@pytest.mark.parametrize("nonsymmetric", [0.0, 0.3])
+def test_refactorization_on_the_pattern_is_a_dense_solve(nonsymmetric):
+    """After a first SuperLU factorization of W + c I the frame keeps its pattern; W + c' I is
+    then factorized on it (compiled, no pivoting): the solves are those of a dense solve with
+    W + c' I, and the refilled factors at c are SuperLU's (the pattern's own check)."""
+    nc = 200
+    W = block_matrix(nc, 4, density=0.005, nonsymmetric=nonsymmetric)      # factors: 34 per unknown
+    fr = _Frame(FrictionContactProblem(W, np.ones(3 * nc), np.full(nc, 0.5)))
+    first = _Factor(fr, 0.1)
+    pattern = fr.cache["admm_pattern"]
+    assert pattern is not None
+    lp, li, up, ui, rows, cols, triples, bp, bi, bx = pattern
+    lx, ux, ud, ok = S.lu_refactor(bp, bi, bx, 0.1, lp, li, up, ui)
+    assert ok
+    np.testing.assert_allclose(lx, first.arrays[2], rtol=1e-9, atol=1e-12 * np.abs(first.arrays[2]).max())
+    np.testing.assert_allclose(ud, first.arrays[6], rtol=1e-9)
+    again = _Factor(fr, 7.5)
+    assert again.arrays[0] is lp and again.arrays[3] is up         # the pattern itself
+    b = np.random.default_rng(8).normal(size=3 * nc)
+    ref = np.linalg.solve(fr.W.toarray() + 7.5 * np.eye(3 * nc), b)
+    np.testing.assert_allclose(again.solve(b), ref, rtol=1e-10, atol=1e-12 * np.abs(ref).max())
+
+
+def test_refactorization_reports_a_zero_pivot():
+    """A zero pivot (here B = 0 at c = 0) is reported, not divided by."""
+    lp, li = np.zeros(3, np.int64), np.zeros(0, np.int64)
+    up, ui = np.zeros(3, np.int64), np.zeros(0, np.int64)
+    bp, bi, bx = np.zeros(3, np.int64), np.zeros(0, np.int64), np.zeros(0)
+    assert not S.lu_refactor(bp, bi, bx, 0.0, lp, li, up, ui)[3]
+    assert S.lu_refactor(bp, bi, bx, 2.0, lp, li, up, ui)[3]
+
+
 def test_refinement_only_where_it_pays():
     """A step of iterative refinement is taken where the test solve misses 1e-12 relative
     residual and the step at least halves it: not on an exact solve, yes on a solve off by

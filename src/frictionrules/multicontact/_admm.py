@@ -83,14 +83,17 @@ COMPILED_FILL_MAX = 150
 #: :data:`DENSE_MIN_FILL` of its entries, by SuperLU otherwise. Measured under load, one
 #: factorization, dense against SuperLU: Box_Stacks (246 unknowns, W 3.3 % full) 0.56 against
 #: 0.18 ms; local_problem_test (144, 24 %) 0.19 against 0.35; PerioBox (180, 30 %) 0.30
-#: against 0.59.
+#: against 0.59; but SuperLU's pattern serves again when ρ changes (:func:`_pattern`):
+#: local_problem_test's ADMM marginal cost 10.3 µs an iteration with it, 19-30 dense (two
+#: interleaved pairs, under load; two factorizations in iterations 20-120).
 DENSE_MAX = 400
-DENSE_MIN_FILL = 0.1
+DENSE_MIN_FILL = 0.5
 
 
 class _Factor:
-    r"""Solves with :math:`A = W + c I`: dense LU up to 400 unknowns where W is at least a tenth
-    full (:data:`DENSE_MAX`, :data:`DENSE_MIN_FILL`), SuperLU otherwise.
+    r"""Solves with :math:`A = W + c I`: dense LU up to 400 unknowns where W is at least half
+    full (:data:`DENSE_MAX`, :data:`DENSE_MIN_FILL`), SuperLU otherwise, or, after a first
+    SuperLU factorization on the frame, a compiled one on its pattern (:func:`_pattern`).
 
     SuperLU runs on diagonal pivots in symmetric mode (the fastest, and W is symmetric or
     nearly so), which can cost digits on a nonsymmetric W: when a test solve (beside the first
@@ -134,6 +137,14 @@ class _Factor:
                 self._solve = lambda b: sla.lu_solve((lu, piv), b, check_finite=False)
             self.refine = False
             return
+        pattern = fr.cache.get("admm_pattern")
+        if pattern is not None:         # the pattern of an earlier factorization, refilled
+            lp, li, up, ui, rows, cols, triples, bp, bi, bx = pattern
+            lx, ux, ud, ok = S.lu_refactor(bp, bi, bx, c, lp, li, up, ui)
+            if ok:
+                self.arrays = (lp, li, lx, up, ui, ux, ud, rows, cols, triples)
+                self._test_solve()
+                return
         import scipy.sparse as sp
         import scipy.sparse.linalg as spla
 
@@ -154,11 +165,9 @@ class _Factor:
             factors = S.csr_factors(lu.L, lu.U)
             self.arrays = factors + (perm[rinv], perm[cinv], S.contact_triples(factors[0], factors[1], factors[3],
                                                                               factors[4]))
-            # the test solve now, compiled: ADMM's next iteration then runs in the compiled loop
-            # (two iterations in Python after each new factorization otherwise, 0.1-0.3 ms)
-            t = np.random.default_rng(1).normal(size=n)
-            self.refine = self._refines(S.lu_solve(*self.arrays, t), t)
-            self.first = False
+            if "admm_pattern" not in fr.cache:
+                fr.cache["admm_pattern"] = _pattern(W, self.arrays, c)
+            self._test_solve()
             return
         else:
             def solve(b):
@@ -173,6 +182,15 @@ class _Factor:
         if b.ndim == 2:
             return np.column_stack([self._solve(np.ascontiguousarray(col)) for col in b.T])
         return S.lu_solve(*self.arrays, b)
+
+    def _test_solve(self):
+        """The test solve of :meth:`_refines`, compiled, at the factorization: ADMM's next
+        iteration then runs in the compiled loop (two iterations ran in Python after each new
+        factorization otherwise, 0.1-0.3 ms); nothing is kept."""
+        from . import _admm_steps as S
+        t = np.random.default_rng(1).normal(size=self.fr.W.shape[0])
+        self.refine = self._refines(S.lu_solve(*self.arrays, t), t)
+        self.first = False
 
     def _refines(self, x, b) -> bool:
         """Whether solves take a step of refinement: the test solve ``x`` of ``A x = b`` misses
@@ -241,6 +259,29 @@ class _Anderson:
         finite."""
         from . import _admm_steps as S
         return S.anderson_update(v, tv, *self.buffers(v.size))
+
+
+def _pattern(W, arrays, c: float):
+    r"""The pattern of SuperLU's factors (``arrays`` of :func:`._admm_steps.lu_solve`, of
+    :math:`W + cI`) and W's rows and columns in their order (:math:`B = W_{rows, cols}` as CSR
+    arrays), for :func:`._admm_steps.lu_refactor` to factorize :math:`W + c'I` again on it
+    (ρ changed: 20-60 µs on the shared files' patterns instead of SuperLU's 0.2-1.5 ms, under
+    load); None where SuperLU permuted rows and columns differently (a pivot off the diagonal)
+    or the refilled factors at c are not SuperLU's (a pattern missing fill)."""
+    from . import _admm_steps as S
+    lp, li, lx, up, ui, ux, ud, rows, cols, triples = arrays
+    if not np.array_equal(rows, cols):
+        return None
+    B = W[rows][:, cols].tocsr()
+    B.sort_indices()
+    bp, bi = B.indptr.astype(np.int64), B.indices.astype(np.int64)
+    bx = np.ascontiguousarray(B.data, dtype=float)
+    lx2, ux2, ud2, ok = S.lu_refactor(bp, bi, bx, c, lp, li, up, ui)
+    scale = max(np.abs(ud).max(), 1e-300)
+    if not ok or any(a.size and np.abs(a - b).max() > 1e-8 * max(np.abs(b).max(), scale)
+                     for a, b in ((lx2, lx), (ux2, ux), (ud2, ud))):
+        return None
+    return lp, li, up, ui, rows, cols, triples, bp, bi, bx
 
 
 #: Iterations of one call of the compiled loop (:func:`._admm_steps.admm_loop`) at most: a

@@ -399,6 +399,40 @@ def dense_factors(lu, piv):
     return lp, li, lx, up, ui, ux, ud, rows
 
 
+@njit(cache=True)
+def lu_refactor(bp, bi, bx, c, lp, li, up, ui):
+    r"""The factors of :math:`B + cI` (B's CSR arrays ``bp, bi, bx``) on the pattern of an
+    earlier factorization of B + c'I without pivoting (L's strict rows ``lp, li``, U's ``up,
+    ui``, columns ascending; a pattern that holds every fill entry, such as SuperLU's on
+    diagonal pivots): ``(lx, ux, ud, ok)`` as :func:`lu_solve` takes them, row by row
+    (:math:`w = B_{i\cdot} + c e_i`; for each k of L's row in order,
+    :math:`L_{ik} = w_k / U_{kk}`, :math:`w \leftarrow w - L_{ik} U_{k\cdot}`; then U's row
+    is w's). ``ok`` false where a pivot is zero or not finite."""
+    n = lp.size - 1
+    lx, ux, ud = np.empty(li.size), np.empty(ui.size), np.empty(n)
+    w = np.zeros(n)
+    ok = True
+    for i in range(n):
+        for p in range(bp[i], bp[i + 1]):
+            w[bi[p]] = bx[p]
+        w[i] += c
+        for p in range(lp[i], lp[i + 1]):
+            k = li[p]
+            lik = w[k] / ud[k]
+            lx[p] = lik
+            w[k] = 0.0
+            for r in range(up[k], up[k + 1]):
+                w[ui[r]] -= lik * ux[r]
+        d = w[i]
+        ok = ok and d != 0.0 and np.isfinite(d)
+        ud[i] = d
+        w[i] = 0.0
+        for r in range(up[i], up[i + 1]):
+            ux[r] = w[ui[r]]
+            w[ui[r]] = 0.0
+    return lx, ux, ud, ok
+
+
 def csr_factors(L, U):
     """``(lp, li, lx, up, ui, ux, ud)`` of :func:`lu_solve` from the CSC factors L (unit lower
     triangular) and U (upper triangular) of SciPy's SuperLU or of dense triangles."""
