@@ -163,6 +163,56 @@ def test_factor_with_the_contact_ordering_solves(nonsymmetric):
     assert np.all(perm[1::3] == perm[0::3] + 1) and np.all(perm[0::3] % 3 == 0)
 
 
+@pytest.mark.parametrize("nonsymmetric", [0.0, 0.3])
+def test_refactorization_on_the_pattern_is_a_dense_solve(nonsymmetric):
+    """After a first SuperLU factorization of W + c I the frame keeps its pattern; W + c' I is
+    then factorized on it (compiled, no pivoting): the solves are those of a dense solve with
+    W + c' I, and the refilled factors at c are SuperLU's (the pattern's own check)."""
+    nc = 200
+    W = block_matrix(nc, 4, density=0.005, nonsymmetric=nonsymmetric)      # factors: 34 per unknown
+    fr = _Frame(FrictionContactProblem(W, np.ones(3 * nc), np.full(nc, 0.5)))
+    first = _Factor(fr, 0.1)
+    pattern = fr.cache["admm_pattern"]
+    assert pattern is not None
+    lp, li, up, ui, rows, cols, triples, bp, bi, bx = pattern
+    lx, ux, ud, ok = S.lu_refactor(bp, bi, bx, 0.1, lp, li, up, ui)
+    assert ok
+    np.testing.assert_allclose(lx, first.arrays[2], rtol=1e-9, atol=1e-12 * np.abs(first.arrays[2]).max())
+    np.testing.assert_allclose(ud, first.arrays[6], rtol=1e-9)
+    again = _Factor(fr, 7.5)
+    assert again.arrays[0] is lp and again.arrays[3] is up         # the pattern itself
+    b = np.random.default_rng(8).normal(size=3 * nc)
+    ref = np.linalg.solve(fr.W.toarray() + 7.5 * np.eye(3 * nc), b)
+    np.testing.assert_allclose(again.solve(b), ref, rtol=1e-10, atol=1e-12 * np.abs(ref).max())
+
+
+def test_refactorization_reports_a_zero_pivot():
+    """A zero pivot (here B = 0 at c = 0) is reported, not divided by."""
+    lp, li = np.zeros(3, np.int64), np.zeros(0, np.int64)
+    up, ui = np.zeros(3, np.int64), np.zeros(0, np.int64)
+    bp, bi, bx = np.zeros(3, np.int64), np.zeros(0, np.int64), np.zeros(0)
+    assert not S.lu_refactor(bp, bi, bx, 0.0, lp, li, up, ui)[3]
+    assert S.lu_refactor(bp, bi, bx, 2.0, lp, li, up, ui)[3]
+
+
+def test_refinement_only_where_it_pays():
+    """A step of iterative refinement is taken where the test solve misses 1e-12 relative
+    residual and the step at least halves it: not on an exact solve, yes on a solve off by
+    1e-6, not where the correction does not lower the residual (a solver returning zeros: the
+    round-off of an ill-conditioned A behaves so)."""
+    nc = 200
+    W = block_matrix(nc, 4, density=0.02)
+    fr = _Frame(FrictionContactProblem(W, np.ones(3 * nc), np.full(nc, 0.5)))
+    f = _Factor(fr, 0.1)
+    b = np.random.default_rng(6).normal(size=3 * nc)
+    x = np.linalg.solve(fr.W.toarray() + 0.1 * np.eye(3 * nc), b)
+    assert not f._refines(x, b)
+    off = x * (1 + 1e-6 * np.random.default_rng(7).normal(size=x.size))
+    assert f._refines(off, b)
+    f._solve = np.zeros_like
+    assert not f._refines(off, b)
+
+
 @pytest.mark.parametrize("drop", [(), (4,)])
 def test_products_and_power_iteration_have_scipys_bits(drop):
     nc = 150
@@ -340,16 +390,27 @@ def test_dense_factors_rebuild_lapacks_lu():
 
 
 @needs_fclib
-@pytest.mark.parametrize("name, anderson", [("Capsules-i125-1213.hdf5", 5), ("Spheres-i099-356-679.hdf5", 5),
-                                            ("local_problem_test.hdf5", 0)])
-def test_compiled_loop_is_the_python_loop(name, anderson):
+@pytest.mark.parametrize("name, anderson, doublings", [("Capsules-i125-1213.hdf5", 5, 0),
+                                                       ("Capsules-i125-1213.hdf5", 5, 2),
+                                                       ("Spheres-i099-356-679.hdf5", 5, 0),
+                                                       ("local_problem_test.hdf5", 0, 0),
+                                                       ("spheres-in-a-box-98-i10000-256-10.hdf5", 5, 0)])
+def test_compiled_loop_is_the_python_loop(name, anderson, doublings):
     """ADMM's iterations in one compiled loop (no callback) and one by one in Python (a
     callback that never stops the run): with the error measured at every iteration
     (``max_check_interval=1``), the same errors at every iteration (the compiled error sums as
-    the frame's), the same answer."""
+    the frame's), the same answer; also with Anderson's pause doubled after repeated drops and
+    on spheres-in-a-box, whose rho jumps by several levels (120 iterations there)."""
     from frictionrules import ADMMOptions, read_fclib, solve
     p = read_fclib(FCLIB / name)
-    opts = ADMMOptions(anderson=anderson, max_check_interval=1)
+    opts = ADMMOptions(anderson=anderson, max_check_interval=1, anderson_pause_doublings=doublings)
+    if name.startswith("spheres-in"):
+        a = solve(p, method="admm", tol=0.0, max_iter=120, options=opts)
+        seen = []
+        b = solve(p, method="admm", tol=0.0, max_iter=120, options=opts, callback=lambda info: seen.append(info.error))
+        np.testing.assert_allclose(a.history, seen, rtol=1e-9)
+        np.testing.assert_allclose(a.r, b.r, rtol=1e-9, atol=1e-12 * np.abs(b.r).max())
+        return
     seen = []
     a = solve(p, method="admm", tol=1e-8, options=opts)
     b = solve(p, method="admm", tol=1e-8, options=opts, callback=lambda info: seen.append(info.error))
@@ -400,19 +461,76 @@ def test_error_measured_at_the_last_iteration_at_tolerance_zero():
 def test_rho_change_stays_in_its_band():
     """The residuals' balance (ratio 10) asks +1 or -1; a step leaving [lo, hi] is refused,
     a step from outside towards the band is kept."""
-    limits = np.zeros(10)
-    limits[2], limits[7], limits[8], limits[9] = 10.0, 1.0, 8.0, 2.0
-    assert S.rho_change(100.0, 1.0, 2.0, limits) == 1
-    assert S.rho_change(1.0, 100.0, 2.0, limits) == -1
-    assert S.rho_change(5.0, 1.0, 2.0, limits) == 0
-    assert S.rho_change(100.0, 1.0, 8.0, limits) == 0         # 16 > hi
-    assert S.rho_change(1.0, 100.0, 1.0, limits) == 0         # 0.5 < lo
-    assert S.rho_change(1.0, 100.0, 64.0, limits) == -1       # above the band, towards it
-    assert S.rho_change(100.0, 1.0, 0.25, limits) == 1        # below the band, towards it
+    limits = np.zeros(11)
+    limits[2], limits[7], limits[8], limits[9], limits[10] = 10.0, 1.0, 8.0, 2.0, 8.0
+    assert S.rho_change(100.0, 1.0, 2.0, 0, limits) == 1
+    assert S.rho_change(1.0, 100.0, 2.0, 0, limits) == -1
+    assert S.rho_change(5.0, 1.0, 2.0, 0, limits) == 0
+    assert S.rho_change(100.0, 1.0, 8.0, 0, limits) == 0         # 16 > hi
+    assert S.rho_change(1.0, 100.0, 1.0, 0, limits) == 0         # 0.5 < lo
+    assert S.rho_change(1.0, 100.0, 64.0, 0, limits) == -1       # above the band, towards it
+    assert S.rho_change(100.0, 1.0, 0.25, 0, limits) == 1        # below the band, towards it
+
+
+def test_anderson_pause_doubles_after_repeated_drops():
+    """The pause after the k-th drop in a row (k = 0, 1, ...) is pause 2^k, k at most the
+    doublings allowed; with none allowed it is the plain pause."""
+    assert [S.pause_length(10, k, 2.0) for k in range(5)] == [10, 20, 40, 40, 40]
+    assert [S.pause_length(10, k, 0.0) for k in range(3)] == [10, 10, 10]
+
+
+def test_rho_streak_doubles_its_levels():
+    """A run of changes the same way, each as soon as allowed: 1, 1, 2, 4, 8, 8 levels
+    (``rho_levels_max`` 8), so 2^k levels in about k + 2 changes; a change the other way, or
+    one after a pause, starts again at one level; within the band only the levels that fit."""
+    limits = np.zeros(11)
+    limits[2], limits[7], limits[8], limits[9], limits[10] = 10.0, 2.0 ** -40, 1.0, 2.0, 8.0
+    rho, streak, levels = 1.0, 0, []
+    for _ in range(6):
+        change = S.rho_change(1.0, 100.0, rho, streak, limits)
+        streak = S.rho_streak(streak, change, True)
+        rho *= 2.0 ** change
+        levels.append(change)
+    assert levels == [-1, -1, -2, -4, -8, -8] and streak == -6
+    assert S.rho_change(100.0, 1.0, rho, streak, limits) == 1          # the other way
+    assert S.rho_streak(streak, 1, True) == 1
+    assert S.rho_streak(streak, -1, False) == -1                       # after a pause
+    assert S.rho_change(1.0, 100.0, 2.0 ** -37, -5, limits) == -3      # 2^-40 is the band's end
+    limits[10] = 1.0
+    assert S.rho_change(1.0, 100.0, 1.0, -5, limits) == -1             # rho_levels_max = 1
+
+
+@needs_fclib
+def test_rho_streak_factorizes_less_on_spheres_in_a_box():
+    """spheres-in-a-box: rho drifts down from its spectral start by eleven levels; with jumps
+    of up to 8 levels its first 120 iterations factorize fewer times than level by level, and
+    its iterates at the iterations before the first jump are the same."""
+    from frictionrules import ADMMOptions, read_fclib, solve
+    from frictionrules.multicontact import _admm
+    p = read_fclib(FCLIB / "spheres-in-a-box-98-i10000-256-10.hdf5")
+    counts = []
+    for levels in (1, 8):
+        made = []
+        original = _admm._Factor.__init__
+
+        def counting(self, fr, c, original=original, made=made):
+            made.append(c)
+            original(self, fr, c)
+        _admm._Factor.__init__ = counting
+        try:
+            s = solve(p, method="admm", tol=0.0, max_iter=120, options=ADMMOptions(rho_levels_max=levels,
+                                                                                    max_check_interval=1))
+        finally:
+            _admm._Factor.__init__ = original
+        counts.append((len(made), s.history[:14]))
+    assert counts[1][0] < counts[0][0] - 3
+    np.testing.assert_array_equal(counts[0][1], counts[1][1])
 
 
 @pytest.mark.parametrize("kw, name", [({"max_check_interval": 0}, "max_check_interval"),
                                       ({"rho_min": -1.0}, "rho_min"),
+                                      ({"rho_levels_max": 0}, "rho_levels_max"),
+                                      ({"anderson_pause_doublings": -1}, "anderson_pause_doublings"),
                                       ({"rho_min": 1.0, "rho_max": 0.5}, "rho_max")])
 def test_admm_options_name_the_bad_argument(kw, name):
     from frictionrules import ADMMOptions, FrictionRulesError

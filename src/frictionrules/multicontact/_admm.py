@@ -20,10 +20,13 @@ spectral :math:`\rho`, whose residual balancing then lowers it through four
 refactorizations); the dual variable (the velocity) then starts at zero, the all-stick
 velocity (from the projected :math:`q`, random all-stick problems took 70 iterations with
 the small :math:`\rho` instead of 3: a small penalty moves the dual variable slowly). It is raised or lowered when the primal and dual residuals are out of
-balance. Anderson acceleration (type II, memory ``ADMMOptions.anderson``) extrapolates the
+balance, by more levels at once along a streak of changes the same way
+(:func:`._admm_steps.rho_change`: a drift of :math:`2^k` levels costs about k + 2
+factorizations). Anderson acceleration (type II, memory ``ADMMOptions.anderson``) extrapolates the
 fixed-point map on :math:`(y, z)`; an extrapolated step is dropped, and the memory cleared,
 when the next residual is larger than the last plain one; plain steps then run alone for
-``ADMMOptions.anderson_pause`` iterations.
+``ADMMOptions.anderson_pause`` iterations (doubled after repeated drops up to
+``ADMMOptions.anderson_pause_doublings`` times).
 """
 
 from __future__ import annotations
@@ -69,17 +72,33 @@ def _product(fr: _Frame):
 #: compiled against SuperLU: Spheres (6.8 per unknown) 17 against 58 µs, Capsules (13.9) 20
 #: against 62, the 1,264 boxes (22.9) 89 against 219, spheres-in-a-box (45) 30 against 87, the
 #: 1,812 spheres (91) 535 against 590; the 3,970 spheres (135) 2,850 against 2,630,
-#: KaplasTower (167) 310 against 226.
-COMPILED_FILL_MAX = 100
+#: KaplasTower (167) 310 against 226. The compiled loop also measures the error at intervals
+#: (one product with W, not one per iteration) and runs no Python per iteration: ADMM's
+#: marginal cost on the 3,970 spheres 3,070 µs an iteration with the compiled solves against
+#: 3,440 with SuperLU's (two interleaved pairs, under load); KaplasTower's 520-595 against
+#: 450-560, left to SuperLU.
+COMPILED_FILL_MAX = 150
+
+#: W + cI is factorized dense (LAPACK) up to this many unknowns where W stores at least
+#: :data:`DENSE_MIN_FILL` of its entries, by SuperLU otherwise. Measured under load, one
+#: factorization, dense against SuperLU: Box_Stacks (246 unknowns, W 3.3 % full) 0.56 against
+#: 0.18 ms; local_problem_test (144, 24 %) 0.19 against 0.35; PerioBox (180, 30 %) 0.30
+#: against 0.59; but SuperLU's pattern serves again when ρ changes (:func:`_pattern`):
+#: local_problem_test's ADMM marginal cost 10.3 µs an iteration with it, 19-30 dense (two
+#: interleaved pairs, under load; two factorizations in iterations 20-120).
+DENSE_MAX = 400
+DENSE_MIN_FILL = 0.5
 
 
 class _Factor:
-    r"""Solves with :math:`A = W + c I`: dense LU up to 400 unknowns, SuperLU otherwise.
+    r"""Solves with :math:`A = W + c I`: dense LU up to 400 unknowns where W is at least half
+    full (:data:`DENSE_MAX`, :data:`DENSE_MIN_FILL`), SuperLU otherwise, or, after a first
+    SuperLU factorization on the frame, a compiled one on its pattern (:func:`_pattern`).
 
     SuperLU runs on diagonal pivots in symmetric mode (the fastest, and W is symmetric or
     nearly so), which can cost digits on a nonsymmetric W: when a test solve (beside the first
-    one, as a second right-hand side) misses :math:`10^{-12}` relative residual, every solve
-    takes one step of iterative refinement.
+    one, as a second right-hand side) misses :math:`10^{-12}` relative residual and one step
+    of iterative refinement at least halves it (:meth:`_refines`), every solve takes one.
     (Without it ADMM stalled at 2e-8 on the 1,264-box pile, whose W is nonsymmetric by 2e-3;
     the test's right-hand side is random: the residual of a solve with ``-q`` met the bound
     there.) The unknowns are ordered by :func:`._ordering.contact_ordering` (computed once per
@@ -92,7 +111,8 @@ class _Factor:
     (:func:`._admm_steps.admm_iteration`); ``arrays`` is None otherwise.
 
     The first solve is kept for the next call: ADMM's first iteration in the all-stick regime
-    solves with ``-q`` again, as :func:`all_stick` did (0.2 ms on KaplasTower).
+    solves with ``-q`` again, as :func:`all_stick` did (0.2 ms on KaplasTower). With SuperLU's
+    factors in ``arrays`` the test solve is made at once (compiled) and nothing is kept.
     """
 
     def __init__(self, fr: _Frame, c: float):
@@ -102,7 +122,7 @@ class _Factor:
         self.first, self.kept = True, None
         self.c, self.fr = c, fr
         self.arrays = None
-        if n <= 400:
+        if n <= DENSE_MAX and W.nnz >= DENSE_MIN_FILL * n * n:
             import scipy.linalg as sla
             if "dense_w" not in fr.cache:
                 fr.cache["dense_w"] = W.toarray()
@@ -117,6 +137,14 @@ class _Factor:
                 self._solve = lambda b: sla.lu_solve((lu, piv), b, check_finite=False)
             self.refine = False
             return
+        pattern = fr.cache.get("admm_pattern")
+        if pattern is not None:         # the pattern of an earlier factorization, refilled
+            lp, li, up, ui, rows, cols, triples, bp, bi, bx = pattern
+            lx, ux, ud, ok = S.lu_refactor(bp, bi, bx, c, lp, li, up, ui)
+            if ok:
+                self.arrays = (lp, li, lx, up, ui, ux, ud, rows, cols, triples)
+                self._test_solve()
+                return
         import scipy.sparse as sp
         import scipy.sparse.linalg as spla
 
@@ -137,6 +165,10 @@ class _Factor:
             factors = S.csr_factors(lu.L, lu.U)
             self.arrays = factors + (perm[rinv], perm[cinv], S.contact_triples(factors[0], factors[1], factors[3],
                                                                               factors[4]))
+            if "admm_pattern" not in fr.cache:
+                fr.cache["admm_pattern"] = _pattern(W, self.arrays, c)
+            self._test_solve()
+            return
         else:
             def solve(b):
                 x = np.empty_like(b)
@@ -150,6 +182,25 @@ class _Factor:
         if b.ndim == 2:
             return np.column_stack([self._solve(np.ascontiguousarray(col)) for col in b.T])
         return S.lu_solve(*self.arrays, b)
+
+    def _test_solve(self):
+        """The test solve of :meth:`_refines`, compiled, at the factorization: ADMM's next
+        iteration then runs in the compiled loop (two iterations ran in Python after each new
+        factorization otherwise, 0.1-0.3 ms); nothing is kept."""
+        from . import _admm_steps as S
+        t = np.random.default_rng(1).normal(size=self.fr.W.shape[0])
+        self.refine = self._refines(S.lu_solve(*self.arrays, t), t)
+        self.first = False
+
+    def _refines(self, x, b) -> bool:
+        """Whether solves take a step of refinement: the test solve ``x`` of ``A x = b`` misses
+        :math:`10^{-12}` relative residual and one step at least halves it. (Where the residual
+        is round-off of an ill-conditioned A, the step does not pay: spheres-in-a-box at small
+        :math:`\rho`, 4.4e-12 before and 4.0e-12 after, each iteration then twice as long.)"""
+        r = norm(self._residual(x, b))
+        if not r > 1e-12 * norm(b):
+            return False
+        return bool(norm(self._residual(x - self._solve(self._residual(x, b)), b)) <= 0.5 * r)
 
     def _residual(self, x, b):
         return _product(self.fr)(x, self.c * x - b)
@@ -165,7 +216,7 @@ class _Factor:
             t = np.random.default_rng(1).normal(size=b.size)    # the factors (0.25 ms, not 0.32)
             X = self._solve(np.column_stack((t, b)))
             x_t, x = np.ascontiguousarray(X[:, 0]), np.ascontiguousarray(X[:, 1])
-            self.refine = bool(norm(self._residual(x_t, t)) > 1e-12 * norm(t))
+            self.refine = self._refines(x_t, t)
         else:
             x = self._solve(b)
         if self.refine:
@@ -208,6 +259,29 @@ class _Anderson:
         finite."""
         from . import _admm_steps as S
         return S.anderson_update(v, tv, *self.buffers(v.size))
+
+
+def _pattern(W, arrays, c: float):
+    r"""The pattern of SuperLU's factors (``arrays`` of :func:`._admm_steps.lu_solve`, of
+    :math:`W + cI`) and W's rows and columns in their order (:math:`B = W_{rows, cols}` as CSR
+    arrays), for :func:`._admm_steps.lu_refactor` to factorize :math:`W + c'I` again on it
+    (ρ changed: 20-60 µs on the shared files' patterns instead of SuperLU's 0.2-1.5 ms, under
+    load); None where SuperLU permuted rows and columns differently (a pivot off the diagonal)
+    or the refilled factors at c are not SuperLU's (a pattern missing fill)."""
+    from . import _admm_steps as S
+    lp, li, lx, up, ui, ux, ud, rows, cols, triples = arrays
+    if not np.array_equal(rows, cols):
+        return None
+    B = W[rows][:, cols].tocsr()
+    B.sort_indices()
+    bp, bi = B.indptr.astype(np.int64), B.indices.astype(np.int64)
+    bx = np.ascontiguousarray(B.data, dtype=float)
+    lx2, ux2, ud2, ok = S.lu_refactor(bp, bi, bx, c, lp, li, up, ui)
+    scale = max(np.abs(ud).max(), 1e-300)
+    if not ok or any(a.size and np.abs(a - b).max() > 1e-8 * max(np.abs(b).max(), scale)
+                     for a, b in ((lx2, lx), (ux2, ux), (ud2, ud))):
+        return None
+    return lp, li, up, ui, rows, cols, triples, bp, bi, bx
 
 
 #: Iterations of one call of the compiled loop (:func:`._admm_steps.admm_loop`) at most: a
@@ -283,21 +357,24 @@ def run_admm(fr: _Frame, r, max_iter: int, mon: _Monitor, opts: ADMMOptions):
     anderson = _Anderson(opts.anderson) if opts.anderson > 0 else None
     v = np.concatenate((y, z))
     safe_v, safe_res, extrapolated = v, np.inf, False
-    last_update, it, paused_until = 0, 0, 0
+    last_update, it, paused_until, streak, dropped = 0, 0, 0, 0, 0
     best_r, best_err = y.copy(), np.inf
     compiled = mon.callback is None and mon.handover is None
     memory = anderson.buffers(2 * n) if anderson is not None else (
         np.empty(0), np.empty(0), np.empty((0, 2 * n)), np.empty((0, 2 * n)), np.empty((0, 0)),
         np.zeros(2, np.int64))
     limits = np.array([mon.tol, fr.r_bound, opts.ratio_primal_dual, max_iter, opts.rho_update_every,
-                       opts.anderson_pause, opts.max_check_interval, opts.rho_min * L, opts.rho_max * L, step],
+                       opts.anderson_pause, opts.max_check_interval, opts.rho_min * L, opts.rho_max * L, step,
+                       opts.rho_levels_max,
+                       opts.anderson_pause_doublings],
                       dtype=float)
     next_check, last_measured, last_err = 1, 0, np.inf
     errs, its = np.empty(COMPILED_BATCH), np.empty(COMPILED_BATCH, np.int64)
     while it < max_iter:
         if compiled and factor.arrays is not None and factor.kept is None and factor.refine is not None:
             x, v, safe_v, best_r, y_last = x.copy(), v.copy(), safe_v.copy(), best_r.copy(), np.empty(n)
-            ints = np.array([it, last_update, paused_until, extrapolated, next_check, last_measured], dtype=np.int64)
+            ints = np.array([it, last_update, paused_until, extrapolated, next_check, last_measured, streak, dropped],
+                            dtype=np.int64)
             floats = np.array([safe_res, best_err, last_err])
             count, change = S.admm_loop(*factor.arrays, factor.refine, *_compiled_w(fr), q, mu, d, fr.norm_q,
                                         rho, eta, x, v, s, safe_v, y_last, best_r, *memory, ints, floats, limits,
@@ -305,6 +382,7 @@ def run_admm(fr: _Frame, r, max_iter: int, mon: _Monitor, opts: ADMMOptions):
             it, last_update, paused_until, extrapolated = int(ints[0]), int(ints[1]), int(ints[2]), bool(ints[3])
             safe_res, best_err = float(floats[0]), float(floats[1])
             next_check, last_measured, last_err = int(ints[4]), int(ints[5]), float(floats[2])
+            streak, dropped = int(ints[6]), int(ints[7])
             if count and mon.record_many("admm", its[:count], y_last, errs[:count]):
                 return y_last, int(its[count - 1])
             if change:
@@ -318,8 +396,11 @@ def run_admm(fr: _Frame, r, max_iter: int, mon: _Monitor, opts: ADMMOptions):
         if extrapolated and res > safe_res:   # the extrapolation did not pay: back to the plain step
             anderson.clear()
             v, extrapolated = safe_v, False
-            paused_until = it + opts.anderson_pause
+            paused_until = it + S.pause_length(opts.anderson_pause, dropped, limits[11])
+            dropped += 1
             continue
+        if extrapolated:
+            dropped = 0
         y_new = tv[:n]
         x = x_new
         err = fr.error(y_new, product(y_new, q))
@@ -328,8 +409,10 @@ def run_admm(fr: _Frame, r, max_iter: int, mon: _Monitor, opts: ADMMOptions):
         if mon.record("admm", it, y_new, err):
             return y_new.copy(), it
         if it - last_update >= opts.rho_update_every and max(primal, dual) > 0:
-            change = S.rho_change(primal, dual, rho, limits)
+            consecutive = it - last_update <= opts.rho_update_every
+            change = S.rho_change(primal, dual, rho, streak if consecutive else 0, limits)
             if change != 0:
+                streak = S.rho_streak(streak, change, consecutive)
                 level += change
                 rho = rho0 * step ** level
                 factor = _factor(fr, rho + eta)

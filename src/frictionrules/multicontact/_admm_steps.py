@@ -399,6 +399,40 @@ def dense_factors(lu, piv):
     return lp, li, lx, up, ui, ux, ud, rows
 
 
+@njit(cache=True)
+def lu_refactor(bp, bi, bx, c, lp, li, up, ui):
+    r"""The factors of :math:`B + cI` (B's CSR arrays ``bp, bi, bx``) on the pattern of an
+    earlier factorization of B + c'I without pivoting (L's strict rows ``lp, li``, U's ``up,
+    ui``, columns ascending; a pattern that holds every fill entry, such as SuperLU's on
+    diagonal pivots): ``(lx, ux, ud, ok)`` as :func:`lu_solve` takes them, row by row
+    (:math:`w = B_{i\cdot} + c e_i`; for each k of L's row in order,
+    :math:`L_{ik} = w_k / U_{kk}`, :math:`w \leftarrow w - L_{ik} U_{k\cdot}`; then U's row
+    is w's). ``ok`` false where a pivot is zero or not finite."""
+    n = lp.size - 1
+    lx, ux, ud = np.empty(li.size), np.empty(ui.size), np.empty(n)
+    w = np.zeros(n)
+    ok = True
+    for i in range(n):
+        for p in range(bp[i], bp[i + 1]):
+            w[bi[p]] = bx[p]
+        w[i] += c
+        for p in range(lp[i], lp[i + 1]):
+            k = li[p]
+            lik = w[k] / ud[k]
+            lx[p] = lik
+            w[k] = 0.0
+            for r in range(up[k], up[k + 1]):
+                w[ui[r]] -= lik * ux[r]
+        d = w[i]
+        ok = ok and d != 0.0 and np.isfinite(d)
+        ud[i] = d
+        w[i] = 0.0
+        for r in range(up[i], up[i + 1]):
+            ux[r] = w[ui[r]]
+            w[ui[r]] = 0.0
+    return lx, ux, ud, ok
+
+
 def csr_factors(L, U):
     """``(lp, li, lx, up, ui, ux, ud)`` of :func:`lu_solve` from the CSC factors L (unit lower
     triangular) and U (upper triangular) of SciPy's SuperLU or of dense triangles."""
@@ -408,18 +442,48 @@ def csr_factors(L, U):
 
 
 @njit(cache=True)
-def rho_change(primal, dual, rho, limits):
-    r"""The change of :math:`\rho`'s level asked by the residuals' balance: +1 (:math:`\rho`
-    times ``limits[9]``) when the primal residual exceeds ``limits[2]`` times the dual one,
-    -1 in the opposite case, 0 otherwise and where the new :math:`\rho` would leave
-    ``[limits[7], limits[8]]`` (a change from outside towards it is kept)."""
+def rho_change(primal, dual, rho, streak, limits):
+    r"""The change of :math:`\rho`'s level asked by the residuals' balance: up (:math:`\rho`
+    times ``limits[9]`` per level) when the primal residual exceeds ``limits[2]`` times the
+    dual one, down in the opposite case, 0 otherwise. ``streak``: the changes just before,
+    signed, each made as soon as allowed and the same way (:func:`rho_streak`); after k >= 2
+    of them this one the same way is of :math:`2^{k-1}` levels (at most ``limits[10]``), one
+    otherwise: a drift of :math:`\rho` by :math:`2^k` levels costs about k + 2
+    factorizations, not :math:`2^k`. Levels that would take :math:`\rho` out of
+    ``[limits[7], limits[8]]`` are left out (a change from outside towards it is kept)."""
     lo, hi, step = limits[7], limits[8], limits[9]
-    change = 1 if primal > limits[2] * dual else (-1 if dual > limits[2] * primal else 0)
+    sign = 1 if primal > limits[2] * dual else (-1 if dual > limits[2] * primal else 0)
+    if sign == 0:
+        return 0
+    levels = 1
+    if streak * sign >= 2:
+        levels = min(np.int64(1) << min(abs(streak) - 1, 30), max(np.int64(limits[10]), 1))
+    change = sign * levels
+    while change > 1 and rho * step ** change > hi:
+        change -= 1
+    while change < -1 and rho * step ** change < lo:
+        change += 1
     if change > 0 and rho * step > hi and rho >= lo:
         return 0
     if change < 0 and rho / step < lo and rho <= hi:
         return 0
     return change
+
+
+@njit(cache=True)
+def pause_length(pause, dropped, doublings):
+    """Anderson's pause after a dropped extrapolation: ``pause`` iterations, doubled for each
+    of the ``dropped`` extrapolations dropped before it with none kept between, at most
+    ``doublings`` times."""
+    return pause << min(dropped, np.int64(doublings))
+
+
+@njit(cache=True)
+def rho_streak(streak, change, consecutive):
+    """The streak of :func:`rho_change` after a change ``change`` (nonzero), ``consecutive``
+    when it came as soon as allowed after the last one."""
+    sign = 1 if change > 0 else -1
+    return streak + sign if consecutive and streak * sign > 0 else sign
 
 
 @njit(cache=True)
@@ -443,16 +507,18 @@ def admm_loop(lp, li, lx, up, ui, ux, ud, rows, cols, triples, refine, wp, wi, w
     The run's state is read and written in place: ``x``, ``v = (y, z)``, ``s``, the last
     plain ``safe_v``, the last y and the best one (``y``, ``best_r``), Anderson's memory
     (:func:`anderson_update`; none when ``dG`` has no row; ``limits[5]``: its pause after a
-    dropped extrapolation), ``ints`` = (iteration, iteration of the last change of
-    :math:`\rho`, end of the pause, whether v is extrapolated, next measure, iteration of the
-    last measure), ``floats`` = (residual of ``safe_v``, best error, last error measured).
+    dropped extrapolation, doubled at most ``limits[11]`` times, :func:`pause_length`),
+    ``ints`` = (iteration, iteration of the last change of :math:`\rho`, end of the pause,
+    whether v is extrapolated, next measure, iteration of the last measure, the streak of
+    :math:`\rho`'s changes (:func:`rho_streak`; ``limits[10]``: the most levels of one), the
+    extrapolations dropped with none kept since), ``floats`` = (residual of ``safe_v``, best error, last error measured).
     The errors measured and their iteration numbers go to ``errs`` and ``its``. Returns
     ``(recorded, change)``: change +1 (raise :math:`\rho`), -1 (lower it), 0 (none); the last
     iteration of the call is recorded unless it was a dropped extrapolation or the call ends
     on a change of :math:`\rho`."""
     n = q.size
     it, last_update, paused_until, extrapolated = ints[0], ints[1], ints[2], ints[3] != 0
-    next_check, last_it = ints[4], ints[5]
+    next_check, last_it, streak, dropped = ints[4], ints[5], ints[6], ints[7]
     safe_res, best_err, last_err = floats[0], floats[1], floats[2]
     tol, r_bound = limits[0], limits[1]
     max_iter, every, pause = np.int64(limits[3]), np.int64(limits[4]), np.int64(limits[5])
@@ -470,8 +536,11 @@ def admm_loop(lp, li, lx, up, ui, ux, ud, rows, cols, triples, refine, wp, wi, w
             astate[:] = 0
             v[:] = safe_v
             extrapolated = False
-            paused_until = it + pause
+            paused_until = it + pause_length(pause, dropped, limits[11])
+            dropped += 1
             continue
+        if extrapolated:
+            dropped = 0
         x[:] = x_new
         y[:] = tv[:n]
         y_norm = np.sqrt(np.dot(y, y))
@@ -490,8 +559,10 @@ def admm_loop(lp, li, lx, up, ui, ux, ud, rows, cols, triples, refine, wp, wi, w
             next_check = it + K.check_interval(hist_err, hist_it, 2 if last_it > 0 else 1, err, tol, max_interval)
             last_err, last_it = err, it
         if it - last_update >= every and max(primal, dual) > 0:
-            change = rho_change(primal, dual, rho, limits)
+            consecutive = it - last_update <= every
+            change = rho_change(primal, dual, rho, streak if consecutive else 0, limits)
             if change != 0:
+                streak = rho_streak(streak, change, consecutive)
                 last_update = it
                 astate[:] = 0
         safe_v[:] = tv
@@ -504,6 +575,6 @@ def admm_loop(lp, li, lx, up, ui, ux, ud, rows, cols, triples, refine, wp, wi, w
         if change != 0:
             break
     ints[0], ints[1], ints[2], ints[3] = it, last_update, paused_until, np.int64(extrapolated)
-    ints[4], ints[5] = next_check, last_it
+    ints[4], ints[5], ints[6], ints[7] = next_check, last_it, streak, dropped
     floats[0], floats[1], floats[2] = safe_res, best_err, last_err
     return count, change
