@@ -203,7 +203,7 @@ def solve_factored(laws: ContactLaws, blocks: TreeBlocks, q, r0=None, *, tol: fl
         ls = law_set(laws)
         rows_k = metric_rows(None, ls, b.D)
         it, err, nh = K.factored_law_nsgs(b.tree, b.offset, b.J, b.B, b.dofadr, b.dofnum, b.D, q, ls.fn,
-                                          rows_k, ls.rows, ls.dilatant, r, v, u, float(tol), max_iter,
+                                          rows_k, ls.rows, ls.ell, ls.dilatant, r, v, u, float(tol), max_iter,
                                           hist_err, hist_it, norm_q, interval, LOCAL_ITER, LOCAL_TOL,
                                           workspace(0))
         measure = "law"
