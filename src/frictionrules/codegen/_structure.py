@@ -206,10 +206,19 @@ def _quadratic_form(expr, variables, points):
     return M[0][0], M[0][1], M[1][1]
 
 
-@functools.lru_cache(maxsize=256)
-def _cones(key, form):
-    """The symbolic ``(P, A, m)`` of two coaxial elliptic cones, or None (structure only: the
-    principal axes are compared at the parameter values)."""
+_CONES: dict = {}
+
+
+def _cones(form):
+    """The symbolic ``(P, A, m)`` of two coaxial elliptic cones, or None, in the law's parameter
+    symbols: kept per structure (a law with other parameter values reuses it; the principal
+    axes are compared at the values)."""
+    if form.structure not in _CONES:
+        _CONES[form.structure] = _derive_cones(form)
+    return _CONES[form.structure]
+
+
+def _derive_cones(form):
     import sympy
     if form.state:
         return None
@@ -239,7 +248,7 @@ def elliptic_cones(form) -> np.ndarray:
     form is not of that structure (proved with SymPy, as :func:`return_structure`), where A or
     P is not positive definite, m <= 0, or the two do not share their axes (to 1e-12)."""
     out = np.zeros(ELLIPTIC_CONES_SIZE)
-    sym = _cones(form.structure, form)
+    sym = _cones(form)
     if sym is None:
         return out
     import sympy
