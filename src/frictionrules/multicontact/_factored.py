@@ -24,7 +24,8 @@ from .._optional import require
 from ._kernels import _EPS, check_interval, error_sum, local_solve, norm2
 from ..contact.layout import LAW_KN, LAW_KT
 from ._cones_kernels import block_of, cones_local, cones_of
-from ._law_kernels import _local, natural_residual, scratch
+from ..contact import workspace
+from ._law_kernels import _local, metric_rows, natural_residual, scratch
 
 njit = require("numba", extra="kernels").njit
 
@@ -150,11 +151,15 @@ def factored_nsgs(tree, off, Jp, Bp, dofadr, dofnum, D, q, mu, dil, r, v, u, tol
 
 
 @njit(cache=True)
-def factored_law_nsgs(tree, off, Jp, Bp, dofadr, dofnum, D, q, fn, rows_k, rows_1, ell, dilatant, r, v, u,
-                      tol, max_iter, hist_err, hist_it, norm_q, max_interval, local_iter, local_tol, ws):
+def factored_law_nsgs(tree, off, Jp, Bp, dofadr, dofnum, D, q, fn, rows_1, ell, dilatant, r, v, u,
+                      tol, max_iter, hist_err, hist_it, norm_q, max_interval, local_iter, local_tol):
     """The law path's sweeps (:func:`._law_kernels.law_nsgs`: each contact's own return map,
-    the law path's error measure) on the factored operator; as :func:`factored_nsgs`."""
+    the law path's error measure) on the factored operator; as :func:`factored_nsgs`. The
+    rows' metric (:func:`._law_kernels.metric_rows`) and the contact layer's workspace are
+    formed here (no arrays boxed for Python and unboxed again each step)."""
     nc = D.shape[0]
+    rows_k = metric_rows(rows_1, D)
+    ws = workspace(0)
     b = np.empty(3)
     s, du, s1, res, tan = scratch(0)
     resid = np.empty(r.size)
@@ -194,6 +199,19 @@ def factored_law_nsgs(tree, off, Jp, Bp, dofadr, dofnum, D, q, fn, rows_k, rows_
             break
         next_check = it + check_interval(hist_err, hist_it, nh, err, tol, max_interval)
     return it, err, nh
+
+
+@njit(cache=True)
+def mean_diagonal(D):
+    """The mean of the positive ``|W_ii|`` over the diagonal blocks ``D`` (1 where none is)."""
+    acc, n = 0.0, 0
+    for a in range(D.shape[0]):
+        for i in range(3):
+            x = abs(D[a, i, i])
+            if x > 0.0:
+                acc += x
+                n += 1
+    return acc / n if n else 1.0
 
 
 @njit(cache=True)

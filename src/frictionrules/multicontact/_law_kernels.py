@@ -102,6 +102,19 @@ def scratch(nq):
 
 
 @njit(cache=True)
+def metric_rows(rows, D):
+    """The laws' rows (nc, L) with each contact's ``kt, kn`` from its diagonal block ``D`` (nc,
+    3, 3) of W: ``kn = 1/W_NN``, ``kt = 2/(W_T1T1 + W_T2T2)`` (1 where not positive)."""
+    out = rows.copy()
+    for a in range(rows.shape[0]):
+        wn = D[a, 0, 0]
+        wt = 0.5 * (D[a, 1, 1] + D[a, 2, 2])
+        out[a, LAW_KN] = 1.0 / wn if wn > 0.0 else 1.0
+        out[a, LAW_KT] = 1.0 / wt if wt > 0.0 else 1.0
+    return out
+
+
+@njit(cache=True)
 def trial_weight(rn, un):
     r"""The weight :math:`\rho` of the natural map's trial :math:`r - \rho u`: 1, or
     :math:`r_N/(2u_N)` where :math:`0 < r_N < 2u_N`, so that the trial of a compressed contact

@@ -198,14 +198,9 @@ def check_method(problem, method: str) -> None:
 
 
 def metric_rows(problem, ls: LawSet, D) -> np.ndarray:
-    """The laws' rows with each contact's ``kt, kn`` from its diagonal block ``D`` of W."""
-    from ..contact.layout import LAW_KN, LAW_KT
-    rows = ls.rows.copy()
-    wn = D[:, 0, 0]
-    wt = 0.5 * (D[:, 1, 1] + D[:, 2, 2])
-    rows[:, LAW_KN] = np.where(wn > 0, 1.0 / np.where(wn > 0, wn, 1.0), 1.0)
-    rows[:, LAW_KT] = np.where(wt > 0, 1.0 / np.where(wt > 0, wt, 1.0), 1.0)
-    return rows
+    """The laws' rows with each contact's ``kt, kn`` from its diagonal block ``D`` of W
+    (:func:`._law_kernels.metric_rows`)."""
+    return _kernels().metric_rows(ls.rows, np.ascontiguousarray(D, dtype=float))
 
 
 def solve_law(problem, method, tol, max_iter, r0, opts, callback, time_limit, t0, c0) -> Solution:
