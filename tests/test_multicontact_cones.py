@@ -191,3 +191,19 @@ def test_whole_solves_equal_the_general_path(name):
     f0 = solve_factored(claws0, blocks, q, tol=1e-12, max_iter=3000)
     assert f1.iterations == f0.iterations
     assert np.abs(f1.r - f0.r).max() <= 1e-10 * np.abs(f0.r).max()
+
+
+@pytest.mark.parametrize("law", [fr.TransformedCoulomb(0.6, 0.3, angle=0.4), fr.Huber(0.6, 0.45, angle=-0.3),
+                                 fr.Coulomb(0.5)], ids=["transformed", "huber", "coulomb"])
+def test_limit_value_is_the_laws_limit_condition(law):
+    """contact.limit_value (the update's limit check alone) against the law's own f, and finite
+    at the apex T = 0 (the kink rule: Huber's f is 0/0 there)."""
+    from frictionrules.contact import limit_value
+    fn, row, _, _ = _law_rows(law)
+    ws = workspace(0)
+    rng = np.random.default_rng(5)
+    for T1, T2, N in rng.normal(size=(20, 3)) * [1.0, 1.0, 0.0] + [0.0, 0.0, 1.0] * rng.uniform(0.1, 2.0, (20, 1)):
+        want = float(law.limit(np.array([T1, T2]), N))
+        assert limit_value(fn, row, ws.qn, T1, T2, N, ws) == pytest.approx(want, rel=1e-12, abs=1e-12)
+    apex = limit_value(fn, row, ws.qn, 0.0, 0.0, 1.0, ws)
+    assert np.isfinite(apex) and apex < 0.0
