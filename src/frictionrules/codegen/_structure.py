@@ -190,18 +190,31 @@ def return_constants(form) -> np.ndarray:
 ELLIPTIC_CONES_SIZE = 8
 
 
+def _zero_expanded(expr, points) -> bool:
+    """:func:`_zero`, trying the expansion first (a polynomial identity is proved by it at once;
+    SymPy's simplify, with its trigonometric rewriting of a turned law's axes, took seconds)."""
+    import sympy
+    for sub in points:
+        try:
+            value = complex(expr.xreplace(sub).evalf())
+        except (TypeError, ValueError, ZeroDivisionError):
+            return False
+        if not abs(value) <= 1e-9:
+            return False
+    return sympy.expand(expr) == 0 or sympy.simplify(expr) == 0
+
+
 def _quadratic_form(expr, variables, points):
     """The constant symmetric matrix ``(M11, M12, M22)`` of ``expr = sqrt(Tᵀ M T)`` (proved),
-    else None."""
+    else None (the entries as derived: they are evaluated at the parameter values)."""
     import sympy
     T1, T2, _ = variables
     sq = sympy.expand(expr ** 2)
     M = [[sympy.diff(sq, a, b) / 2 for b in (T1, T2)] for a in (T1, T2)]
-    if not all(_zero(sympy.diff(e, s), points) for row in M for e in row for s in variables):
+    if not all(_zero_expanded(sympy.diff(e, s), points) for row in M for e in row for s in variables):
         return None
-    M = [[sympy.simplify(e) for e in row] for row in M]
     quad = M[0][0] * T1**2 + 2 * M[0][1] * T1 * T2 + M[1][1] * T2**2
-    if not _zero(sq - quad, points):
+    if not _zero_expanded(sq - quad, points):
         return None
     return M[0][0], M[0][1], M[1][1]
 
@@ -224,14 +237,14 @@ def _derive_cones(form):
         return None
     T1, T2, N = form.variables
     points = _points(list(form.variables) + list(form.params))
-    if not _zero(sympy.diff(form.g, N), points):
+    if not _zero_expanded(sympy.diff(form.g, N), points):
         return None
     h = form.f.xreplace({T1: sympy.Integer(0), T2: sympy.Integer(0)})
-    m = sympy.simplify(-sympy.diff(h, N))
-    if m.free_symbols & {T1, T2, N} or not _zero(h + m * N, points):
+    m = -sympy.diff(h, N)
+    if m.free_symbols & {T1, T2, N} or not _zero_expanded(h + m * N, points):
         return None
     k = form.f - h
-    if not _zero(sympy.diff(k, N), points):
+    if not _zero_expanded(sympy.diff(k, N), points):
         return None
     P = _quadratic_form(k, form.variables, points)
     A = _quadratic_form(form.g, form.variables, points)
