@@ -13,9 +13,11 @@ from ._fortran import fixed_form, fortran_helpers, fortran_subroutine
 from ._program import LOCAL_FIELDS, Program, local_layout, local_program
 from ._python import parameter_temps, python_block, python_function
 from ._step import step_programs
-from ._structure import ReturnStructure, return_constants, return_structure
+from ._structure import (ELLIPTIC_CONES_SIZE, ReturnStructure, elliptic_cones, return_constants,
+                         return_structure)
 
 __all__ = ["LOCAL_FIELDS", "Program", "local_layout", "local_program", "python_function",
            "parameter_temps", "c_function", "c_helpers", "fortran_subroutine", "fortran_helpers",
            "fixed_form", "ReturnStructure", "return_structure", "return_constants", "step_programs",
+           "elliptic_cones", "ELLIPTIC_CONES_SIZE",
            "python_block", "c_block", "used_inputs"]

@@ -31,6 +31,15 @@ unknowns instead of 4 + nq.
 
 Each identity is checked first numerically at random points (a quick no) and then proved with
 SymPy (a law whose identity SymPy cannot prove keeps the general return).
+
+**Two coaxial elliptic cones** (:func:`elliptic_cones`, for the many-contact solvers' oblique
+projection, not for the return of this module's step): :math:`f = \sqrt{T^\top P T} - mN`
+and :math:`g = \sqrt{T^\top A T}` with constant positive definite P, A that share their
+principal axes, m > 0, no internal variables — the transformed-variable rule (1.17)–(1.18),
+the associated elliptic law (1.9)–(1.10), Coulomb, a coaxial ``UserLaw``. The return keeps N
+and, in the common principal frame (eigenvalues :math:`\alpha_i` of A, :math:`\pi_i` of P),
+gives :math:`T'_i = a_i/(1 + x\alpha_i)` with the one scalar equation
+:math:`\sum_i \pi_i a_i^2/(1 + x\alpha_i)^2 = (mN)^2`, convex and decreasing in x.
 """
 
 from __future__ import annotations
@@ -43,7 +52,8 @@ import numpy as np
 from .._returnspec import (RETURN_AFFINE, RETURN_ELLIPTIC, RETURN_GENERIC, RETURN_RADIAL,
                           RETURN_SIZE)
 
-__all__ = ["ReturnStructure", "return_structure", "return_constants"]
+__all__ = ["ReturnStructure", "return_structure", "return_constants", "elliptic_cones",
+           "ELLIPTIC_CONES_SIZE"]
 
 
 @dataclass(frozen=True)
@@ -173,4 +183,100 @@ def return_constants(form) -> np.ndarray:
             out[:] = 0.0
             return out
         out[2:7] = vec[0, 0], vec[1, 0], alpha[0], alpha[1], c
+    return out
+
+
+#: Length of :func:`elliptic_cones`' numbers: ``flag, cos, sin, α1, α2, π1, π2, m``.
+ELLIPTIC_CONES_SIZE = 8
+
+
+def _zero_expanded(expr, points) -> bool:
+    """:func:`_zero`, trying the expansion first (a polynomial identity is proved by it at once;
+    SymPy's simplify, with its trigonometric rewriting of a turned law's axes, took seconds)."""
+    import sympy
+    for sub in points:
+        try:
+            value = complex(expr.xreplace(sub).evalf())
+        except (TypeError, ValueError, ZeroDivisionError):
+            return False
+        if not abs(value) <= 1e-9:
+            return False
+    return sympy.expand(expr) == 0 or sympy.simplify(expr) == 0
+
+
+def _quadratic_form(expr, variables, points):
+    """The constant symmetric matrix ``(M11, M12, M22)`` of ``expr = sqrt(Tᵀ M T)`` (proved),
+    else None (the entries as derived: they are evaluated at the parameter values)."""
+    import sympy
+    T1, T2, _ = variables
+    sq = sympy.expand(expr ** 2)
+    M = [[sympy.diff(sq, a, b) / 2 for b in (T1, T2)] for a in (T1, T2)]
+    if not all(_zero_expanded(sympy.diff(e, s), points) for row in M for e in row for s in variables):
+        return None
+    quad = M[0][0] * T1**2 + 2 * M[0][1] * T1 * T2 + M[1][1] * T2**2
+    if not _zero_expanded(sq - quad, points):
+        return None
+    return M[0][0], M[0][1], M[1][1]
+
+
+_CONES: dict = {}
+
+
+def _cones(form):
+    """The symbolic ``(P, A, m)`` of two coaxial elliptic cones, or None, in the law's parameter
+    symbols: kept per structure (a law with other parameter values reuses it; the principal
+    axes are compared at the values)."""
+    if form.structure not in _CONES:
+        _CONES[form.structure] = _derive_cones(form)
+    return _CONES[form.structure]
+
+
+def _derive_cones(form):
+    import sympy
+    if form.state:
+        return None
+    T1, T2, N = form.variables
+    points = _points(list(form.variables) + list(form.params))
+    if not _zero_expanded(sympy.diff(form.g, N), points):
+        return None
+    h = form.f.xreplace({T1: sympy.Integer(0), T2: sympy.Integer(0)})
+    m = -sympy.diff(h, N)
+    if m.free_symbols & {T1, T2, N} or not _zero_expanded(h + m * N, points):
+        return None
+    k = form.f - h
+    if not _zero_expanded(sympy.diff(k, N), points):
+        return None
+    P = _quadratic_form(k, form.variables, points)
+    A = _quadratic_form(form.g, form.variables, points)
+    if P is None or A is None:
+        return None
+    return P, A, m
+
+
+def elliptic_cones(form) -> np.ndarray:
+    r"""The numbers of the oblique projection of two coaxial elliptic cones (module docstring):
+    ``flag, cos, sin, α1, α2, π1, π2, m`` (:data:`ELLIPTIC_CONES_SIZE`), ``(cos, sin)`` the
+    first principal axis shared by :math:`g^2 = T^\top A T` (eigenvalues α) and
+    :math:`(f + mN)^2 = T^\top P T` (eigenvalues π); all zeros (flag 0) where the symbolic
+    form is not of that structure (proved with SymPy, as :func:`return_structure`), where A or
+    P is not positive definite, m <= 0, or the two do not share their axes (to 1e-12)."""
+    out = np.zeros(ELLIPTIC_CONES_SIZE)
+    sym = _cones(form)
+    if sym is None:
+        return out
+    import sympy
+    values = dict(zip(form.params, (sympy.Float(v) for v in form.values)))
+    P, A = (np.array([[float(e.xreplace(values)) for e in (M[0], M[1])],
+                      [float(e.xreplace(values)) for e in (M[1], M[2])]]) for M in sym[:2])
+    m = float(sym[2].xreplace(values))
+    if not (np.isfinite(P).all() and np.isfinite(A).all() and np.isfinite(m) and m > 0):
+        return out
+    alpha, vec = np.linalg.eigh(A)
+    if alpha[1] - alpha[0] <= 1e-14 * abs(alpha[1]):
+        _, vec = np.linalg.eigh(P)      # A a multiple of I: P's axes are the common ones
+    Ad, Pd = vec.T @ A @ vec, vec.T @ P @ vec
+    if not (min(Ad[0, 0], Ad[1, 1], Pd[0, 0], Pd[1, 1]) > 0 and abs(Ad[0, 1]) <= 1e-12 * np.abs(Ad).max()
+            and abs(Pd[0, 1]) <= 1e-12 * np.abs(Pd).max()):
+        return out
+    out[:] = 1.0, vec[0, 0], vec[1, 0], Ad[0, 0], Ad[1, 1], Pd[0, 0], Pd[1, 1], m
     return out

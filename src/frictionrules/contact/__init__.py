@@ -7,9 +7,10 @@ from .driver import DriveResult, Path, drive, read_path
 from .model import ContactModel
 from .state import ContactState, UpdateResult
 
-#: The compiled entry of one contact update (Numba), imported on first use: ``contact_update``
-#: and the per-thread ``workspace`` / ``Workspace`` of :mod:`frictionrules.contact._return_kernel`.
-_COMPILED = ("contact_update", "workspace", "Workspace")
+#: The compiled entry of one contact update (Numba), imported on first use: ``contact_update``,
+#: the limit check alone ``limit_value``, and the per-thread ``workspace`` / ``Workspace`` of
+#: :mod:`frictionrules.contact._return_kernel`.
+_COMPILED = ("contact_update", "limit_value", "workspace", "Workspace")
 
 
 def __getattr__(name):

@@ -169,6 +169,20 @@ def _general(fn, law, c, out, ws, want_tangent):
     return kind, dlam, diss, slip, False
 
 
+@njit(cache=True, error_model="numpy", _nrt=False)
+def limit_value(fn, law, q, T1, T2, N, ws):
+    """The law's limit condition :math:`f(T_1, T_2, N, q)` by its generated ``f`` alone (the
+    limit check of :func:`contact_update`, with its kink rule: where f is not finite at the
+    apex of a cone, the largest value on a small circle around it), for a caller that needs to
+    know only whether a force is inside the limit surface (``f <= 0``) — tens of times cheaper
+    than a whole update. ``q`` the internal variables (``nq`` of the law's row), ``ws`` a
+    :func:`workspace` for that ``nq``."""
+    w = ws.w
+    _eval(fn[FN_F], fn[FN_FIRST], fn[FN_FULL], law[LAW_CLIP] != 0.0, T1, T2, N, q,
+          law[LAW_PARAMS:], w, 0)
+    return w[0]
+
+
 @njit(inline="always", error_model="numpy", _nrt=False)
 def _attempt(fn, law, s, du, s1, res, ws, want_tangent, tan):
     """One step of one contact (no substeps): the law's generated step, which takes elastic,

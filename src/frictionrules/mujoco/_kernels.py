@@ -140,7 +140,7 @@ def contact_blocks(addr, rowadr, rownnz, colind, jdata, dof_tree, tree_dofadr, t
                 t = dof_tree[c]
                 s = 0 if tree[a, 0] == t else 1
                 Jp[off[a, s] + l * tree_dofnum[t] + c - tree_dofadr[t]] += jdata[k]
-        u = np.zeros(3)
+        u0 = u1 = u2 = 0.0
         for s in range(2):
             t = tree[a, s]
             if t < 0:
@@ -155,8 +155,11 @@ def contact_blocks(addr, rowadr, rownnz, colind, jdata, dof_tree, tree_dofadr, t
                 row = p + l * n
                 for e in range(nzptr[t], nzptr[t + 1]):      # B[l, j] = sum_k J[l, k] X[j, c0 + k]
                     Bp[row + nzj[e]] += Jp[row + nzk[e]] * nzv[e]
-                for k in range(n):
-                    u[l] += Jp[row + k] * vfree[c0 + k]
+            for k in range(n):
+                x = vfree[c0 + k]
+                u0 += Jp[p + k] * x
+                u1 += Jp[p + n + k] * x
+                u2 += Jp[p + 2 * n + k] * x
             for l in range(3):
                 for l2 in range(3):
                     acc = 0.0
@@ -164,7 +167,7 @@ def contact_blocks(addr, rowadr, rownnz, colind, jdata, dof_tree, tree_dofadr, t
                         acc += Jp[p + l * n + k] * Bp[p + l2 * n + k]
                     D[a, l, l2] += acc
         g = gap[a] if gap[a] > 0.0 else baumgarte * gap[a]
-        q[3 * a] = u[0] + g / h
-        q[3 * a + 1] = u[1]
-        q[3 * a + 2] = u[2]
+        q[3 * a] = u0 + g / h
+        q[3 * a + 1] = u1
+        q[3 * a + 2] = u2
     return tree, off, Jp, Bp, D, q

@@ -22,7 +22,10 @@ import numpy as np
 
 from .._optional import require
 from ._kernels import _EPS, check_interval, error_sum, local_solve, norm2
-from ._law_kernels import _local, natural_residual, scratch
+from ..contact.layout import LAW_KN, LAW_KT
+from ._cones_kernels import block_of, cones_local, cones_of
+from ..contact import workspace
+from ._law_kernels import _local, metric_rows, natural_residual, scratch
 
 njit = require("numba", extra="kernels").njit
 
@@ -94,10 +97,10 @@ def _cone_error(tree, off, Jp, dofadr, dofnum, v, q, u, r, mu, dil, norm_q):
 
 
 @njit(cache=True)
-def _law_error(tree, off, Jp, dofadr, dofnum, v, q, u, r, fn, rows_1, ws, resid, norm_q):
+def _law_error(tree, off, Jp, dofadr, dofnum, v, q, u, r, fn, rows_1, ell, ws, resid, norm_q):
     """The law path's error of ``r`` with ``u = J v + q`` (written to ``u``)."""
     contact_velocity(tree, off, Jp, dofadr, dofnum, v, q, u)
-    natural_residual(fn, rows_1, r, u, ws, resid)
+    natural_residual(fn, rows_1, ell, r, u, ws, resid)
     err = norm2(resid)
     scale = max(norm_q, norm2(r), norm2(u))
     return err / scale if scale > _EPS else err
@@ -148,11 +151,15 @@ def factored_nsgs(tree, off, Jp, Bp, dofadr, dofnum, D, q, mu, dil, r, v, u, tol
 
 
 @njit(cache=True)
-def factored_law_nsgs(tree, off, Jp, Bp, dofadr, dofnum, D, q, fn, rows_k, rows_1, dilatant, r, v, u,
-                      tol, max_iter, hist_err, hist_it, norm_q, max_interval, local_iter, local_tol, ws):
+def factored_law_nsgs(tree, off, Jp, Bp, dofadr, dofnum, D, q, fn, rows_1, ell, dilatant, r, v, u,
+                      tol, max_iter, hist_err, hist_it, norm_q, max_interval, local_iter, local_tol):
     """The law path's sweeps (:func:`._law_kernels.law_nsgs`: each contact's own return map,
-    the law path's error measure) on the factored operator; as :func:`factored_nsgs`."""
+    the law path's error measure) on the factored operator; as :func:`factored_nsgs`. The
+    rows' metric (:func:`._law_kernels.metric_rows`) and the contact layer's workspace are
+    formed here (no arrays boxed for Python and unboxed again each step)."""
     nc = D.shape[0]
+    rows_k = metric_rows(rows_1, D)
+    ws = workspace(0)
     b = np.empty(3)
     s, du, s1, res, tan = scratch(0)
     resid = np.empty(r.size)
@@ -166,8 +173,13 @@ def factored_law_nsgs(tree, off, Jp, Bp, dofadr, dofnum, D, q, fn, rows_k, rows_
         for a in range(nc):
             i = 3 * a
             _rhs(tree, off, Jp, dofadr, dofnum, v, q, D, r, a, b)
-            r0, r1, r2 = _local(D[a], b, fn[a], rows_k[a], dilatant[a], r[i], r[i + 1], r[i + 2],
-                                local_iter, local_tol, s, du, s1, res, ws, tan)
+            if ell[a, 0] != 0.0:
+                r0, r1, r2 = cones_local(block_of(D, a), b[0], b[1], b[2], cones_of(ell, a),
+                                         rows_k[a, LAW_KN], rows_k[a, LAW_KT], r[i], r[i + 1], r[i + 2],
+                                         local_iter, local_tol)
+            else:
+                r0, r1, r2 = _local(D[a], b, fn[a], rows_k[a], ell[a], dilatant[a], r[i], r[i + 1],
+                                    r[i + 2], local_iter, local_tol, s, du, s1, res, ws, tan)
             d0, d1, d2 = r0 - r[i], r1 - r[i + 1], r2 - r[i + 2]
             dr2 += d0 * d0 + d1 * d1 + d2 * d2
             rr += r0 * r0 + r1 * r1 + r2 * r2
@@ -176,10 +188,10 @@ def factored_law_nsgs(tree, off, Jp, Bp, dofadr, dofnum, D, q, fn, rows_k, rows_
         light = np.sqrt(dr2 / rr) if rr > 0.0 else np.sqrt(dr2)
         if it < next_check and light > tol and it < max_iter:
             continue
-        err = _law_error(tree, off, Jp, dofadr, dofnum, v, q, u, r, fn, rows_1, ws, resid, norm_q)
+        err = _law_error(tree, off, Jp, dofadr, dofnum, v, q, u, r, fn, rows_1, ell, ws, resid, norm_q)
         if err <= tol or it == max_iter:      # v anew (no drift from the updates), the error again
             impulse_velocity(tree, off, Bp, dofadr, dofnum, r, v)
-            err = _law_error(tree, off, Jp, dofadr, dofnum, v, q, u, r, fn, rows_1, ws, resid, norm_q)
+            err = _law_error(tree, off, Jp, dofadr, dofnum, v, q, u, r, fn, rows_1, ell, ws, resid, norm_q)
         hist_err[nh] = err
         hist_it[nh] = it
         nh += 1
@@ -187,6 +199,19 @@ def factored_law_nsgs(tree, off, Jp, Bp, dofadr, dofnum, D, q, fn, rows_k, rows_
             break
         next_check = it + check_interval(hist_err, hist_it, nh, err, tol, max_interval)
     return it, err, nh
+
+
+@njit(cache=True)
+def mean_diagonal(D):
+    """The mean of the positive ``|W_ii|`` over the diagonal blocks ``D`` (1 where none is)."""
+    acc, n = 0.0, 0
+    for a in range(D.shape[0]):
+        for i in range(3):
+            x = abs(D[a, i, i])
+            if x > 0.0:
+                acc += x
+                n += 1
+    return acc / n if n else 1.0
 
 
 @njit(cache=True)

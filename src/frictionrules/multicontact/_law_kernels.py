@@ -22,31 +22,62 @@ import numpy as np
 
 from .._optional import require
 from .._returnspec import TOL as RETURN_TOL
-from ..contact import contact_update
+from ..contact import contact_update, limit_value
 from ..contact.layout import LAW_KN, LAW_KT, RES_FORCE, RES_SIZE
+from ._cones_kernels import MAX_HALVINGS, block_of, cones_local, cones_of, cones_project
 from ._kernels import check_interval, csr_matvec, local_rhs
 
 njit = require("numba", extra="kernels").njit
 
 _EPS = np.finfo(float).eps
-#: Halvings of a local Newton step before the fixed-point step is taken instead.
-MAX_HALVINGS = 8
 #: Divisions by 4 of a dilatant contact's trial weight ω (down to 4^-6).
 MAX_SHRINK = 6
 
 
 @njit(cache=True)
-def project_law(fn, row, x0, x1, x2, s, du, s1, res, ws, tan, want=False):
+def project_law(fn, row, ell, x0, x1, x2, s, du, s1, res, ws, tan, want=False):
     r""":math:`P_K(x)` of one contact, ``x = (x_N, x_T1, x_T2)``: returns ``(r_N, r_T1, r_T2,
     kind, failed)`` (``kind`` 0 inside: ``P_K(x) = x``, 1 returned, 2 zero). With ``want``
     the consistent tangent of the return, ``d(T1, T2, N)/d(du)``, is written to ``tan``
-    (:func:`tangent_of` turns it into :math:`\partial P_K/\partial x`)."""
+    (:func:`tangent_of` turns it into :math:`\partial P_K/\partial x`). A law of two coaxial
+    elliptic cones (``ell[0]`` 1: :func:`frictionrules.codegen.elliptic_cones`) is projected
+    by :func:`._cones_kernels.cones_project`; every other law by the contact layer's update."""
     kt, kn = row[LAW_KT], row[LAW_KN]
+    if ell[0] != 0.0:
+        p0, p1, p2, kind, ok, DP = cones_project((ell[1], ell[2], ell[3], ell[4], ell[5], ell[6],
+                                                  ell[7]), x0, x1, x2)
+        if ok:
+            if want:
+                _put(tan, kt, kn, DP)
+            return p0, p1, p2, kind, False
+    if x0 > 0.0 and limit_value(fn, row, ws.qn, -x1, -x2, x0, ws) <= 0.0:
+        # inside the limit surface: P_K(x) = x, the elastic tangent; the limit check alone
+        # (the update's own, its kink rule included) costs a few percent of the whole update
+        if want:
+            for i in range(3):
+                for k in range(3):
+                    tan[i, k] = 0.0
+            tan[0, 0] = kt
+            tan[1, 1] = kt
+            tan[2, 2] = -kn
+        return x0, x1, x2, 0, False
     du[0] = -x1 / kt
     du[1] = -x2 / kt
     du[2] = -x0 / kn
     kind, failed = contact_update(fn, row, s, du, s1, res, ws, 0, want, tan)
     return res[RES_FORCE + 2], -res[RES_FORCE], -res[RES_FORCE + 1], kind, failed
+
+
+@njit(cache=True)
+def _put(tan, kt, kn, DP):
+    r"""``tan`` (the update's ``d(T1, T2, N)/d(du)``, as :func:`project_law` writes it) from
+    :math:`\partial P_K/\partial x` in FCLIB's ordering (row-major, 9 numbers): the inverse
+    of :func:`tangent_of`."""
+    for i in range(3):
+        for k in range(3):
+            sign = 1.0 if i == 0 else -1.0
+            factor = -1.0 / kn if k == 0 else -1.0 / kt
+            tan[2 if i == 0 else i - 1, 2 if k == 0 else k - 1] = DP[3 * i + k] / (sign * factor)
 
 
 @njit(cache=True)
@@ -71,6 +102,19 @@ def scratch(nq):
 
 
 @njit(cache=True)
+def metric_rows(rows, D):
+    """The laws' rows (nc, L) with each contact's ``kt, kn`` from its diagonal block ``D`` (nc,
+    3, 3) of W: ``kn = 1/W_NN``, ``kt = 2/(W_T1T1 + W_T2T2)`` (1 where not positive)."""
+    out = rows.copy()
+    for a in range(rows.shape[0]):
+        wn = D[a, 0, 0]
+        wt = 0.5 * (D[a, 1, 1] + D[a, 2, 2])
+        out[a, LAW_KN] = 1.0 / wn if wn > 0.0 else 1.0
+        out[a, LAW_KT] = 1.0 / wt if wt > 0.0 else 1.0
+    return out
+
+
+@njit(cache=True)
 def trial_weight(rn, un):
     r"""The weight :math:`\rho` of the natural map's trial :math:`r - \rho u`: 1, or
     :math:`r_N/(2u_N)` where :math:`0 < r_N < 2u_N`, so that the trial of a compressed contact
@@ -83,7 +127,7 @@ def trial_weight(rn, un):
 
 
 @njit(cache=True)
-def natural_residual(fn, rows, r, u, ws, out):
+def natural_residual(fn, rows, ell, r, u, ws, out):
     r"""Per contact :math:`r_a - P_{I}(r_a - \rho_a u_a)` into ``out``
     (:func:`trial_weight`; the rows' stiffnesses must be 1: the identity metric); returns the
     number of failed projections."""
@@ -92,21 +136,26 @@ def natural_residual(fn, rows, r, u, ws, out):
     for a in range(rows.shape[0]):
         i = 3 * a
         rho = trial_weight(r[i], u[i])
-        p0, p1, p2, _kind, failed = project_law(fn[a], rows[a], r[i] - rho * u[i],
-                                                r[i + 1] - rho * u[i + 1], r[i + 2] - rho * u[i + 2],
-                                                s, du, s1, res, ws, tan)
+        if ell[a, 0] != 0.0:        # scalars only: no arrays passed per contact
+            p0, p1, p2, _kind, ok, _DP = cones_project(cones_of(ell, a), r[i] - rho * u[i],
+                                                       r[i + 1] - rho * u[i + 1], r[i + 2] - rho * u[i + 2])
+            failed = not ok
+        else:
+            p0, p1, p2, _kind, failed = project_law(fn[a], rows[a], ell[a], r[i] - rho * u[i],
+                                                    r[i + 1] - rho * u[i + 1], r[i + 2] - rho * u[i + 2],
+                                                    s, du, s1, res, ws, tan)
         out[i], out[i + 1], out[i + 2] = r[i] - p0, r[i + 1] - p1, r[i + 2] - p2
         bad += failed
     return bad
 
 
 @njit(cache=True)
-def law_error(indptr, indices, data, q, fn, rows, r, norm_q, ws):
+def law_error(indptr, indices, data, q, fn, rows, ell, r, norm_q, ws):
     r"""The normalized natural map :math:`|r - P_I(r - \rho u)|/\max(|q|, |r|, |u|)` and
     ``u``."""
     u = csr_matvec(indptr, indices, data, r, q)
     res = np.empty(r.size)
-    natural_residual(fn, rows, r, u, ws, res)
+    natural_residual(fn, rows, ell, r, u, ws, res)
     err = np.sqrt(np.sum(res * res))
     scale = max(norm_q, np.sqrt(np.sum(r * r)), np.sqrt(np.sum(u * u)))
     if scale > _EPS:
@@ -115,7 +164,7 @@ def law_error(indptr, indices, data, q, fn, rows, r, norm_q, ws):
 
 
 @njit(cache=True)
-def _local(A, b, fn, row, dilatant, r0, r1, r2, local_iter, local_tol, s, du, s1, res, ws, tan):
+def _local(A, b, fn, row, ell, dilatant, r0, r1, r2, local_iter, local_tol, s, du, s1, res, ws, tan):
     r"""One contact's problem :math:`A r + b \in N_g(r)` with the others frozen: separation
     (``b_N >= 0``), stick (:math:`r = -A^{-1}b` inside the limit surface), otherwise
     :func:`_newton` on the fixed point :math:`r = P_K(r - \omega K(Ar + b))` from the
@@ -142,14 +191,14 @@ def _local(A, b, fn, row, dilatant, r0, r1, r2, local_iter, local_tol, s, du, s1
               - A[0, 1] * (A[1, 0] * c2 - c1 * A[2, 0])
               + c0 * (A[1, 0] * A[2, 1] - A[1, 1] * A[2, 0])) / det
         if s0 > 0.0:
-            _p0, _p1, _p2, kind, failed = project_law(fn, row, s0, s1_, s2, s, du, s1, res, ws,
+            _p0, _p1, _p2, kind, failed = project_law(fn, row, ell, s0, s1_, s2, s, du, s1, res, ws,
                                                       tan)
             if not failed and kind == 0:
                 return s0, s1_, s2
     om = 1.0
     t0, t1, t2 = r0, r1, r2
     for _ in range(MAX_SHRINK + 1 if dilatant else 1):
-        t0, t1, t2, ok = _newton(A, b, fn, row, om, r0, r1, r2, local_iter, local_tol, s, du,
+        t0, t1, t2, ok = _newton(A, b, fn, row, ell, om, r0, r1, r2, local_iter, local_tol, s, du,
                                  s1, res, ws, tan)
         if ok:
             break
@@ -158,20 +207,20 @@ def _local(A, b, fn, row, dilatant, r0, r1, r2, local_iter, local_tol, s, du, s1
 
 
 @njit(cache=True)
-def _residual(A, b, fn, row, om, r0, r1, r2, s, du, s1, res, ws, tan, want):
+def _residual(A, b, fn, row, ell, om, r0, r1, r2, s, du, s1, res, ws, tan, want):
     r""":math:`R(r) = r - P_K(r - \omega K(Ar + b))` and, with ``want``, the return's tangent
     in ``tan``."""
     kt, kn = om * row[LAW_KT], om * row[LAW_KN]
     u0 = A[0, 0] * r0 + A[0, 1] * r1 + A[0, 2] * r2 + b[0]
     u1 = A[1, 0] * r0 + A[1, 1] * r1 + A[1, 2] * r2 + b[1]
     u2 = A[2, 0] * r0 + A[2, 1] * r1 + A[2, 2] * r2 + b[2]
-    p0, p1, p2, _kind, failed = project_law(fn, row, r0 - kn * u0, r1 - kt * u1, r2 - kt * u2,
+    p0, p1, p2, _kind, failed = project_law(fn, row, ell, r0 - kn * u0, r1 - kt * u1, r2 - kt * u2,
                                             s, du, s1, res, ws, tan, want)
     return r0 - p0, r1 - p1, r2 - p2, failed
 
 
 @njit(cache=True)
-def _newton(A, b, fn, row, om, r0, r1, r2, local_iter, local_tol, s, du, s1, res, ws, tan):
+def _newton(A, b, fn, row, ell, om, r0, r1, r2, local_iter, local_tol, s, du, s1, res, ws, tan):
     r"""Semismooth Newton on :math:`R(r) = r - P_K(r - K(Ar + b))`, the generalized Jacobian
     :math:`I - \partial P_K (I - KA)` from the return's consistent tangent, a step halved
     while it does not lower :math:`|R|`; where no step lowers it, the fixed point
@@ -182,7 +231,7 @@ def _newton(A, b, fn, row, om, r0, r1, r2, local_iter, local_tol, s, du, s1, res
     DP = np.empty((3, 3))
     J = np.empty((3, 3))
     kd = np.array((kn, kt, kt))
-    R0, R1, R2, failed = _residual(A, b, fn, row, om, r0, r1, r2, s, du, s1, res, ws, tan, True)
+    R0, R1, R2, failed = _residual(A, b, fn, row, ell, om, r0, r1, r2, s, du, s1, res, ws, tan, True)
     nR = np.sqrt(R0 * R0 + R1 * R1 + R2 * R2)
     for _ in range(local_iter):
         nr = np.sqrt(r0 * r0 + r1 * r1 + r2 * r2)
@@ -216,7 +265,7 @@ def _newton(A, b, fn, row, om, r0, r1, r2, local_iter, local_tol, s, du, s1, res
         if ok:
             for _h in range(MAX_HALVINGS):
                 t0, t1, t2 = r0 + step * d0, r1 + step * d1, r2 + step * d2
-                S0, S1, S2, bad = _residual(A, b, fn, row, om, t0, t1, t2, s, du, s1, res, ws, tan,
+                S0, S1, S2, bad = _residual(A, b, fn, row, ell, om, t0, t1, t2, s, du, s1, res, ws, tan,
                                             True)
                 nS = np.sqrt(S0 * S0 + S1 * S1 + S2 * S2)
                 if not bad and nS < nR:
@@ -225,7 +274,7 @@ def _newton(A, b, fn, row, om, r0, r1, r2, local_iter, local_tol, s, du, s1, res
                 step *= 0.5
         if not accepted:            # the fixed point: r <- P_K(r - K u)
             t0, t1, t2 = r0 - R0, r1 - R1, r2 - R2
-            S0, S1, S2, bad = _residual(A, b, fn, row, om, t0, t1, t2, s, du, s1, res, ws, tan, True)
+            S0, S1, S2, bad = _residual(A, b, fn, row, ell, om, t0, t1, t2, s, du, s1, res, ws, tan, True)
             nS = np.sqrt(S0 * S0 + S1 * S1 + S2 * S2)
             if not bad and nS >= nR and nR <= RETURN_TOL * nr:
                 # nothing lowers a map already within the return's own tolerance: it is the
@@ -237,7 +286,7 @@ def _newton(A, b, fn, row, om, r0, r1, r2, local_iter, local_tol, s, du, s1, res
 
 
 @njit(cache=True)
-def law_nsgs(indptr, indices, data, D, q, fn, rows_k, rows_1, dilatant, r, tol, max_iter,
+def law_nsgs(indptr, indices, data, D, q, fn, rows_k, rows_1, ell, dilatant, r, tol, max_iter,
              hist_err, hist_it, norm_q, max_interval, local_iter, local_tol, ws):
     """Non-smooth Gauss–Seidel sweeps with :func:`_local` per contact; the error
     (:func:`law_error`) after the sweeps where the relative change of ``r`` is below ``tol``,
@@ -256,15 +305,20 @@ def law_nsgs(indptr, indices, data, D, q, fn, rows_k, rows_1, dilatant, r, tol, 
         for a in range(nc):
             i = 3 * a
             local_rhs(indptr, indices, data, q, D, r, a, b)
-            r0, r1, r2 = _local(D[a], b, fn[a], rows_k[a], dilatant[a], r[i], r[i + 1], r[i + 2],
-                                local_iter, local_tol, s, du, s1, res, ws, tan)
+            if ell[a, 0] != 0.0:
+                r0, r1, r2 = cones_local(block_of(D, a), b[0], b[1], b[2], cones_of(ell, a),
+                                         rows_k[a, LAW_KN], rows_k[a, LAW_KT], r[i], r[i + 1], r[i + 2],
+                                         local_iter, local_tol)
+            else:
+                r0, r1, r2 = _local(D[a], b, fn[a], rows_k[a], ell[a], dilatant[a], r[i], r[i + 1],
+                                    r[i + 2], local_iter, local_tol, s, du, s1, res, ws, tan)
             dr2 += (r0 - r[i]) ** 2 + (r1 - r[i + 1]) ** 2 + (r2 - r[i + 2]) ** 2
             rr += r0 * r0 + r1 * r1 + r2 * r2
             r[i], r[i + 1], r[i + 2] = r0, r1, r2
         light = np.sqrt(dr2 / rr) if rr > 0.0 else np.sqrt(dr2)
         if it < next_check and light > tol and it < max_iter:
             continue
-        err, _u = law_error(indptr, indices, data, q, fn, rows_1, r, norm_q, ws)
+        err, _u = law_error(indptr, indices, data, q, fn, rows_1, ell, r, norm_q, ws)
         hist_err[nh] = err
         hist_it[nh] = it
         nh += 1
@@ -275,7 +329,7 @@ def law_nsgs(indptr, indices, data, D, q, fn, rows_k, rows_1, dilatant, r, tol, 
 
 
 @njit(cache=True)
-def law_linearization(fn, rows_k, r, u, ws, R, DP, om):
+def law_linearization(fn, rows_k, ell, r, u, ws, R, DP, om):
     r"""The law path's global natural map with the rows' metric and its generalized Jacobian
     pieces: per contact :math:`R_a = r_a - P_K(r_a - \omega_a K u_a)` into ``R``,
     :math:`\partial P_K` at the trial into ``DP[a]`` and :math:`\omega_a` into ``om`` (1, or
@@ -288,7 +342,7 @@ def law_linearization(fn, rows_k, r, u, ws, R, DP, om):
         kt, kn = rows_k[a, LAW_KT], rows_k[a, LAW_KN]
         w = trial_weight(r[i], kn * u[i])
         om[a] = w
-        p0, p1, p2, _kind, failed = project_law(fn[a], rows_k[a], r[i] - w * kn * u[i],
+        p0, p1, p2, _kind, failed = project_law(fn[a], rows_k[a], ell[a], r[i] - w * kn * u[i],
                                                 r[i + 1] - w * kt * u[i + 1],
                                                 r[i + 2] - w * kt * u[i + 2], s, du, s1, res, ws,
                                                 tan, True)

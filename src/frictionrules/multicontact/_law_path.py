@@ -69,12 +69,15 @@ class LawSet:
     """The contacts' laws as the kernels take them: ``fn`` (nc, 4) addresses of each law's
     generated functions, ``rows`` (nc, L) its row with unit stiffnesses (padded with zeros),
     ``dilatant`` (nc,) the laws with normal slip (the trait ``normal_slip``), ``kernels``
-    keeping the generated modules alive."""
+    keeping the generated modules alive, ``ell`` (nc, 8) the numbers of the projection of
+    two coaxial elliptic cones (:func:`frictionrules.codegen.elliptic_cones`; flag 0: the
+    law's general update)."""
 
     fn: np.ndarray
     rows: np.ndarray
     dilatant: np.ndarray
     kernels: tuple
+    ell: np.ndarray
 
 
 def _as_law(law):
@@ -89,7 +92,9 @@ def law_set(problem) -> LawSet:
     cached = problem.__dict__.get("_law_set")
     if cached is not None:
         return cached
+    from ..codegen import elliptic_cones
     from ..contact import compiled_law
+    from ..laws import form_of
     # each distinct law object once (its compiled law cached by value), spread by index
     seen, keys, index = {}, [], np.empty(problem.nc, dtype=np.intp)
     for a, law in enumerate(problem.laws):
@@ -109,7 +114,8 @@ def law_set(problem) -> LawSet:
         rows_u[j, :c.row.size] = c.row
     fn, rows = fn_u[index], rows_u[index]
     dilatant = np.array([key.traits.normal_slip for key in keys], dtype=np.bool_)[index]
-    out = LawSet(fn, rows, dilatant, tuple(c.kernel for c in compiled))
+    ell = np.ascontiguousarray(np.array([elliptic_cones(form_of(key)) for key in keys])[index])
+    out = LawSet(fn, rows, dilatant, tuple(c.kernel for c in compiled), ell)
     problem.__dict__["_law_set"] = out
     return out
 
@@ -148,7 +154,7 @@ def law_error(problem, r, u=None) -> float:
     K = _kernels()
     from ..contact import workspace
     res = np.empty(r.size)
-    K.natural_residual(ls.fn, ls.rows, r, u, workspace(0), res)
+    K.natural_residual(ls.fn, ls.rows, ls.ell, r, u, workspace(0), res)
     err = float(np.sqrt(res @ res))
     scale = max(float(np.linalg.norm(problem.q)), float(np.linalg.norm(r)), float(np.linalg.norm(u)))
     return err / scale if scale > np.finfo(float).eps else err
@@ -192,14 +198,9 @@ def check_method(problem, method: str) -> None:
 
 
 def metric_rows(problem, ls: LawSet, D) -> np.ndarray:
-    """The laws' rows with each contact's ``kt, kn`` from its diagonal block ``D`` of W."""
-    from ..contact.layout import LAW_KN, LAW_KT
-    rows = ls.rows.copy()
-    wn = D[:, 0, 0]
-    wt = 0.5 * (D[:, 1, 1] + D[:, 2, 2])
-    rows[:, LAW_KN] = np.where(wn > 0, 1.0 / np.where(wn > 0, wn, 1.0), 1.0)
-    rows[:, LAW_KT] = np.where(wt > 0, 1.0 / np.where(wt > 0, wt, 1.0), 1.0)
-    return rows
+    """The laws' rows with each contact's ``kt, kn`` from its diagonal block ``D`` of W
+    (:func:`._law_kernels.metric_rows`)."""
+    return _kernels().metric_rows(ls.rows, np.ascontiguousarray(D, dtype=float))
 
 
 def solve_law(problem, method, tol, max_iter, r0, opts, callback, time_limit, t0, c0) -> Solution:
@@ -238,7 +239,7 @@ def solve_law(problem, method, tol, max_iter, r0, opts, callback, time_limit, t0
             m = min(chunk, end - done)
             hist_err, hist_it = np.full(m, np.nan), np.zeros(m, dtype=np.int64)
             t = time.perf_counter()
-            it, err, nh = K.law_nsgs(*csr, D, problem.q, ls.fn, rows_k, ls.rows, ls.dilatant, r, tol, m,
+            it, err, nh = K.law_nsgs(*csr, D, problem.q, ls.fn, rows_k, ls.rows, ls.ell, ls.dilatant, r, tol, m,
                                      hist_err, hist_it, fr.norm_q, nsgs_opts.max_check_interval,
                                      LOCAL_ITER, LOCAL_TOL, ws)
             per_sweep = (time.perf_counter() - t) / max(it, 1)

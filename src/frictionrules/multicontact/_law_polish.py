@@ -48,7 +48,7 @@ def polish(problem, ls, rows_k, r, tol, steps, error, record, ws):
     for _ in range(steps):
         if err <= tol:
             break
-        K.law_linearization(ls.fn, rows_k, r, W @ r + q, ws, R, DP, om)
+        K.law_linearization(ls.fn, rows_k, ls.ell, r, W @ r + q, ws, R, DP, om)
         B = sp.bsr_matrix((DP, np.arange(nc), np.arange(nc + 1)), shape=(n, n)).tocsr()
         J = (I - B + B @ sp.diags(np.repeat(om, 3) * kd) @ W).tocsc()
         kept = False

@@ -26,6 +26,7 @@ its capability "cone") are not taken here: build :meth:`TreeBlocks.delassus` and
 
 from __future__ import annotations
 
+import math
 import time
 
 import numpy as np
@@ -36,6 +37,8 @@ from ._methods import options_for
 from .problem import Solution, _contact_states, _parameters
 
 __all__ = ["ContactLaws", "TreeBlocks", "solve_factored"]
+
+_TINY = np.finfo(float).tiny
 
 
 class ContactLaws:
@@ -191,27 +194,21 @@ def solve_factored(laws: ContactLaws, blocks: TreeBlocks, q, r0=None, *, tol: fl
     v, u = np.empty(b.nv), np.empty(3 * nc)
     K.impulse_velocity(b.tree, b.offset, b.B, b.dofadr, b.dofnum, r, v)
     hist_err, hist_it = np.empty(max_iter), np.empty(max_iter, dtype=np.int64)
-    norm_q = float(np.sqrt(q @ q))
+    norm_q = math.sqrt(q @ q)
     if laws.path == "cone":
         it, err, nh = K.factored_nsgs(b.tree, b.offset, b.J, b.B, b.dofadr, b.dofnum, b.D, q, laws.mu_bar,
                                       laws.dilatancy, r, v, u, float(tol), max_iter, hist_err, hist_it,
                                       norm_q, interval)
         measure = "fc3d"
     else:
-        from ..contact import workspace
-        from ._law_path import law_set, metric_rows
+        from ._law_path import law_set
         ls = law_set(laws)
-        rows_k = metric_rows(None, ls, b.D)
         it, err, nh = K.factored_law_nsgs(b.tree, b.offset, b.J, b.B, b.dofadr, b.dofnum, b.D, q, ls.fn,
-                                          rows_k, ls.rows, ls.dilatant, r, v, u, float(tol), max_iter,
-                                          hist_err, hist_it, norm_q, interval, LOCAL_ITER, LOCAL_TOL,
-                                          workspace(0))
+                                          ls.rows, ls.ell, ls.dilatant, r, v, u, float(tol), max_iter,
+                                          hist_err, hist_it, norm_q, interval, LOCAL_ITER, LOCAL_TOL)
         measure = "law"
     from ._frame import UNBOUNDED
-    diag = np.abs(b.D.reshape(-1, 9)[:, ::4])
-    positive = diag > 0
-    mean_diag = float(diag.sum() / positive.sum()) if positive.any() else 1.0
-    bounded = bool(np.sqrt(r @ r) <= UNBOUNDED * max(norm_q, np.finfo(float).tiny) / mean_diag)
+    bounded = bool(math.sqrt(r @ r) <= UNBOUNDED * max(norm_q, _TINY) / K.mean_diagonal(b.D))
     reason = "converged" if err <= tol and bounded else ("max_iter" if bounded else "unbounded")
     return Solution._record(r, u, float(err), int(it), reason == "converged", hist_err[:nh].copy(),
                             hist_it[:nh].copy(), "nsgs", time.perf_counter() - t0, reason,
