@@ -76,9 +76,11 @@ def assembly_of(s: dict, law):
     return fr.Assembly(s["positions"], s["radii"], s["cell"], fr.ContactModel(law, kn=KN, kt=KT))
 
 
-def run_one(s: dict, law_name: str, mu: float, engine: str, strain: float, pair: str = "exported"):
+def run_one(s: dict, law_name: str, mu: float, engine: str, strain: float, pair: str = "exported",
+            ranks: int = 1):
     """One run: (Run, message) or (None, reason) where the engine cannot run the law. Our
-    engine's runs are kept under ``results/assembly_lammps/ours`` and reused."""
+    engine's runs are kept under ``results/assembly_lammps/ours`` and reused; LAMMPS's under
+    ``runs/<tag>_<pair>`` (1 rank) or ``runs/<tag>_<pair>_r<ranks>``."""
     import frictionrules as fr
     from _dem_compare import Run
     a = assembly_of(s, make_law(law_name, mu))
@@ -95,10 +97,11 @@ def run_one(s: dict, law_name: str, mu: float, engine: str, strain: float, pair:
     t0 = time.perf_counter()
     if engine == "lammps":
         from frictionrules.assembly._lammps._runner import run_lammps
-        folder = STORE / "runs" / f"{tag}_{pair.replace('/', '-')}"
+        folder = STORE / "runs" / (f"{tag}_{pair.replace('/', '-')}"
+                                   + (f"_r{ranks}" if ranks > 1 else ""))
         stages = folder / "stages.txt"
         if stages.exists() and "shear done" in stages.read_text():  # kept: read it again
-            r = fr.read_lammps_triaxial(a, folder, ranks=1)
+            r = fr.read_lammps_triaxial(a, folder, ranks=ranks)
             return Run(axial_strain=np.asarray(r.axial_strain),
                        volumetric_strain=np.asarray(r.volumetric_strain),
                        stress=np.asarray(r.stress), coordination=np.asarray(r.coordination),
@@ -111,7 +114,7 @@ def run_one(s: dict, law_name: str, mu: float, engine: str, strain: float, pair:
                                              record_every=1e-3, pair_style=pair)
         except fr.FrictionRulesError as exc:
             return None, str(exc)
-        r = fr.read_lammps_triaxial(a, folder, ended=run_lammps(files), ranks=1)
+        r = fr.read_lammps_triaxial(a, folder, ended=run_lammps(files, ranks=ranks), ranks=ranks)
     else:
         r = fr.triaxial(a, "axisymmetric", pressure=PRESSURE, axial_strain=strain, method="dem",
                         consolidation="frictionless", record_every=1e-3)
