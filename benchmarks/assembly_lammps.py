@@ -289,7 +289,7 @@ def _write_ranks(args, ra, rb, rows, per, notes, write_table):
             "by its tolerances (each run: 2°, 3°, 0.012, 0.2; means: 1.5°, 2°, 0.008, 0.15; "
             "✓ within, ✗ outside). Wall: LAMMPS's own total (log.lammps), run one at a time "
             f"under load (load average at the end: {os.getloadavg()[0]:.1f}, 2 cores shared). "
-            + " ".join(notes))
+            + " ".join(sorted(set(notes))))
     write_table("assembly_lammps_ranks", f"LAMMPS on {ra} and {rb} ranks: the same triaxial test",
                 head, out, text)
 
