@@ -1,8 +1,9 @@
 """Benchmark: the same triaxial test in our engine and in LAMMPS (``engine="lammps"``).
 
 One command: ``python benchmarks/assembly_lammps.py [--seeds 1,2,3] [--mu 0.3,0.5]
-[--laws coulomb,dilatant] [--cases coulomb:0.3,dilatant:0.3] [--strain 0.25] [--pair exported|gran/hooke/history]
-[--cost-grains 10000] [--scale-grains 100000] [--skip-stats] [--skip-cost] [--skip-scale]``.
+[--laws coulomb,dilatant,hardening] [--cases coulomb:0.3,dilatant:0.3] [--strain 0.25]
+[--pair exported|gran/hooke/history] [--ranks 1,2] [--cost-grains 10000]
+[--scale-grains 100000] [--skip-stats] [--skip-cost] [--skip-scale]``.
 
 * **Statistics** (``results/assembly_lammps.md``): ``Assembly.random(400, 3, seed=s,
   polydispersity=0.2)`` (kept under ``results/assembly_lammps/samples``), kn = kt = 1e4, p = 1,
@@ -14,6 +15,11 @@ One command: ``python benchmarks/assembly_lammps.py [--seeds 1,2,3] [--mu 0.3,0.
   pair style (``--pair exported``, the default; table ``assembly_lammps.md``) or, for Coulomb,
   LAMMPS's own ``gran/hooke/history`` (``--pair gran/hooke/history``; table
   ``assembly_lammps_builtin.md``); our engine's runs are kept and reused by both.
+* **Ranks** (``--ranks 1,2``, ``results/assembly_lammps_ranks.md``, in place of the statistics
+  beside ours): the same LAMMPS runs (samples, laws, protocol) on 1 and on 2 MPI ranks, their
+  statistics side by side and their differences judged by the same tolerances. The law
+  ``hardening`` (μ (1 + 0.6 (1 − exp(−κ/0.004))), κ the accumulated slip) runs in LAMMPS only.
+  ``--skip-cost --skip-scale`` for the table alone.
 * **Cost** (``results/assembly_lammps_cost.md``): ms per step of the shear of the same
   ``--cost-grains`` sample (a jittered cubic array compressed frictionless by LAMMPS) in both
   engines at equal cores (1 thread / 1 rank, 2 threads / 2 ranks).
@@ -55,7 +61,12 @@ def make_law(name: str, mu: float):
     if name == "dilatant":
         return fr.UserLaw("sqrt(T1**2 + T2**2) - mu*N", potential="sqrt(T1**2 + T2**2) - beta*N",
                           params={"mu": mu, "beta": mu / 3})
-    raise SystemExit(f"law {name!r}: coulomb or dilatant")
+    if name == "hardening":     # κ: the accumulated slip; μ grows to 1.6 μ over a slip of a few kh
+        return fr.UserLaw("sqrt(T1**2 + T2**2) - mu*(1 + h*(1 - exp(-kappa/kh)))*N",
+                          potential="sqrt(T1**2 + T2**2)",
+                          params={"mu": mu, "h": 0.6, "kh": 0.004}, state={"kappa": 0.0},
+                          rates={"kappa": "slip"})
+    raise SystemExit(f"law {name!r}: coulomb, dilatant or hardening")
 
 
 def sample(seed: int, n: int = 400) -> dict:
@@ -76,9 +87,11 @@ def assembly_of(s: dict, law):
     return fr.Assembly(s["positions"], s["radii"], s["cell"], fr.ContactModel(law, kn=KN, kt=KT))
 
 
-def run_one(s: dict, law_name: str, mu: float, engine: str, strain: float, pair: str = "exported"):
+def run_one(s: dict, law_name: str, mu: float, engine: str, strain: float, pair: str = "exported",
+            ranks: int = 1):
     """One run: (Run, message) or (None, reason) where the engine cannot run the law. Our
-    engine's runs are kept under ``results/assembly_lammps/ours`` and reused."""
+    engine's runs are kept under ``results/assembly_lammps/ours`` and reused; LAMMPS's under
+    ``runs/<tag>_<pair>`` (1 rank) or ``runs/<tag>_<pair>_r<ranks>``."""
     import frictionrules as fr
     from _dem_compare import Run
     a = assembly_of(s, make_law(law_name, mu))
@@ -95,10 +108,11 @@ def run_one(s: dict, law_name: str, mu: float, engine: str, strain: float, pair:
     t0 = time.perf_counter()
     if engine == "lammps":
         from frictionrules.assembly._lammps._runner import run_lammps
-        folder = STORE / "runs" / f"{tag}_{pair.replace('/', '-')}"
+        folder = STORE / "runs" / (f"{tag}_{pair.replace('/', '-')}"
+                                   + (f"_r{ranks}" if ranks > 1 else ""))
         stages = folder / "stages.txt"
         if stages.exists() and "shear done" in stages.read_text():  # kept: read it again
-            r = fr.read_lammps_triaxial(a, folder, ranks=1)
+            r = fr.read_lammps_triaxial(a, folder, ranks=ranks)
             return Run(axial_strain=np.asarray(r.axial_strain),
                        volumetric_strain=np.asarray(r.volumetric_strain),
                        stress=np.asarray(r.stress), coordination=np.asarray(r.coordination),
@@ -111,7 +125,7 @@ def run_one(s: dict, law_name: str, mu: float, engine: str, strain: float, pair:
                                              record_every=1e-3, pair_style=pair)
         except fr.FrictionRulesError as exc:
             return None, str(exc)
-        r = fr.read_lammps_triaxial(a, folder, ended=run_lammps(files), ranks=1)
+        r = fr.read_lammps_triaxial(a, folder, ended=run_lammps(files, ranks=ranks), ranks=ranks)
     else:
         r = fr.triaxial(a, "axisymmetric", pressure=PRESSURE, axial_strain=strain, method="dem",
                         consolidation="frictionless", record_every=1e-3)
@@ -136,16 +150,23 @@ def _f(x, digits=2):
     return "–" if x is None or (isinstance(x, float) and math.isnan(x)) else f"{x:.{digits}f}"
 
 
-def statistics_table(args) -> None:
-    from _dem_compare import statistics, within
-    from _table import write_table
+KEYS = (("peak", 2), ("end", 2), ("ev", 4), ("z", 2))
+
+
+def _seeds_cases(args):
     seeds = [int(v) for v in args.seeds.split(",")]
     if args.cases:    # law:mu pairs instead of every law at every mu
         cases = [(c.split(":")[0], float(c.split(":")[1])) for c in args.cases.split(",")]
     else:
         cases = [(law, float(mu)) for law in args.laws.split(",") if law
                  for mu in args.mu.split(",")]
-    keys = (("peak", 2), ("end", 2), ("ev", 4), ("z", 2))
+    return seeds, cases
+
+
+def statistics_table(args) -> None:
+    from _dem_compare import statistics, within
+    from _table import write_table
+    seeds, cases = _seeds_cases(args)
     rows, notes, per = [], [], {}
     for law, mu in cases:
         for seed in seeds:
@@ -160,15 +181,15 @@ def statistics_table(args) -> None:
             if theirs is None:
                 notes.append(f"{law} μ = {mu:g}: LAMMPS not run: {why}")
             row = [law, mu, seed]
-            for k, d in keys:
+            for k, d in KEYS:
                 a = getattr(so, k)
                 b = getattr(sl, k) if sl else math.nan
                 row += [_f(a, d), _f(b, d), f"{_f(a - b, d)} {within(a - b, k, False)}"]
             row += [_f(ours.wall, 0), _f(theirs.wall, 0) if theirs else "–"]
             rows.append(row)
             print(row, flush=True)
-            _write(args, rows, notes, per, keys, write_table)
-    _write(args, rows, notes, per, keys, write_table)
+            _write(args, rows, notes, per, KEYS, write_table)
+    _write(args, rows, notes, per, KEYS, write_table)
 
 
 def _write(args, rows, notes, per, keys, write_table):
@@ -198,6 +219,79 @@ def _write(args, rows, notes, per, keys, write_table):
     name = "assembly_lammps" + ("" if args.pair == "exported" else "_builtin")
     write_table(name, f"The same triaxial test in our engine and in LAMMPS ({args.pair})", head,
                 out, text)
+
+
+# ---- LAMMPS on 1 and 2 ranks -----------------------------------------------------------------
+
+def _lammps_wall(folder: Path) -> float:
+    """LAMMPS's 'Total wall time' of a run (seconds; NaN where the log has none)."""
+    found = re.findall(r"Total wall time: (\d+):(\d+):(\d+)", (folder / "log.lammps").read_text())
+    if not found:
+        return math.nan
+    h, m, s = (int(v) for v in found[-1])
+    return 3600.0 * h + 60.0 * m + s
+
+
+def _lammps_folder(seed, law, mu, strain, pair, ranks) -> Path:
+    tag = f"seed{seed}_mu{mu:g}_{law}_{100 * strain:g}pc_{pair.replace('/', '-')}"
+    return STORE / "runs" / (tag + (f"_r{ranks}" if ranks > 1 else ""))
+
+
+def ranks_table(args) -> None:
+    """The statistics of the same LAMMPS runs on ``--ranks a,b`` ranks (``assembly_lammps_ranks
+    .md``), one run at a time, kept under ``runs/`` (``_r<ranks>`` for more than one rank);
+    the differences judged by the tolerances against YADE (each run's and the means')."""
+    from _dem_compare import statistics, within
+    from _table import write_table
+    ra, rb = (int(v) for v in args.ranks.split(","))
+    seeds, cases = _seeds_cases(args)
+    rows, per, notes = [], {}, []
+    for law, mu in cases:
+        for seed in seeds:
+            s = sample(seed)
+            runs = [run_one(s, law, mu, "lammps", args.strain, args.pair, r) for r in (ra, rb)]
+            if any(run is None for run, _ in runs):
+                notes += [f"{law} μ = {mu:g} seed {seed}: {why}" for run, why in runs if run is None]
+                continue
+            sa, sb = (statistics(run, args.strain) for run, _ in runs)
+            per.setdefault((law, mu), []).append((sa, sb))
+            row = [law, mu, seed]
+            for k, d in KEYS:
+                a, b = getattr(sa, k), getattr(sb, k)
+                row += [_f(a, d), _f(b, d), f"{_f(b - a, d)} {within(b - a, k, False)}"]
+            walls = [_lammps_wall(_lammps_folder(seed, law, mu, args.strain, args.pair, r))
+                     for r in (ra, rb)]
+            rows.append(row + [_f(w, 0) for w in walls])
+            print(rows[-1], flush=True)
+            _write_ranks(args, ra, rb, rows, per, notes, write_table)
+    _write_ranks(args, ra, rb, rows, per, notes, write_table)
+
+
+def _write_ranks(args, ra, rb, rows, per, notes, write_table):
+    from _dem_compare import within
+    out = list(rows)
+    for (law, mu), pairs in per.items():
+        row = [law, mu, f"**mean of {len(pairs)}**"]
+        for k, d in KEYS:
+            a = float(np.mean([getattr(sa, k) for sa, _ in pairs]))
+            b = float(np.mean([getattr(sb, k) for _, sb in pairs]))
+            row += [_f(a, d), _f(b, d), f"{_f(b - a, d)} {within(b - a, k, True)}"]
+        out.append(row + ["", ""])
+    head = ["law", "μ", "seed"]
+    for name in ("peak φ (°)", "end φ (°)", "ε_v", "Z"):
+        head += [f"{ra} rank: {name}", f"{rb} ranks: {name}", f"{rb} − {ra}"]
+    head += [f"{ra} rank: wall s", f"{rb} ranks: wall s"]
+    text = (f"LAMMPS only, the same files run on {ra} and on {rb} MPI ranks (mpich's mpirun); "
+            f"Assembly.random(400, 3, seed, polydispersity=0.2); kn = kt = {KN:g}, p = {PRESSURE:g}, "
+            f"I = 4e-4, damping 0.2, ρ = 1, frictionless consolidation, to {100 * args.strain:g} % "
+            f"axial strain; the laws' pair style: {args.pair}. Statistics of assembly_yade.py "
+            "(peak on a ±0.25 % running mean, the 20–25 % angle and Z, ε_v at the end), judged "
+            "by its tolerances (each run: 2°, 3°, 0.012, 0.2; means: 1.5°, 2°, 0.008, 0.15; "
+            "✓ within, ✗ outside). Wall: LAMMPS's own total (log.lammps), run one at a time "
+            f"under load (load average at the end: {os.getloadavg()[0]:.1f}, 2 cores shared). "
+            + " ".join(sorted(set(notes))))
+    write_table("assembly_lammps_ranks", f"LAMMPS on {ra} and {rb} ranks: the same triaxial test",
+                head, out, text)
 
 
 # ---- cost ------------------------------------------------------------------------------------
@@ -404,6 +498,9 @@ def main(argv=None) -> None:
     parser.add_argument("--scale-strain", type=float, default=2e-4)
     parser.add_argument("--pair", default="exported", choices=("exported", "gran/hooke/history"),
                         help="the laws' pair style in LAMMPS")
+    parser.add_argument("--ranks", default="",
+                        help="a,b: the statistics of LAMMPS on a and on b ranks, side by side "
+                             "(results/assembly_lammps_ranks.md), instead of ours beside LAMMPS")
     parser.add_argument("--skip-stats", action="store_true")
     parser.add_argument("--skip-cost", action="store_true")
     parser.add_argument("--skip-scale", action="store_true")
@@ -414,7 +511,9 @@ def main(argv=None) -> None:
     global KEPT_ONLY
     KEPT_ONLY = args.kept_only
     os.environ.setdefault("NUMBA_NUM_THREADS", "1")
-    if not args.skip_stats:
+    if args.ranks:
+        ranks_table(args)
+    elif not args.skip_stats:
         statistics_table(args)
     if not args.skip_cost:
         cost_table(args)

@@ -13,10 +13,11 @@ rearranging and contacts forming and breaking.
   exactly with the contact (a rotation, not a projection that shortens it, and about the
   normal by the mean spin), and a new contact starts at zero tangential displacement.
 - History across ranks: a law that hardens with κ on 2 ranks (``mpirun -np 2``), newton on and
-  off: every contact's κ >= 0 and dissipation >= 0 after the run (the pair style stores the
-  history in the pair's canonical orientation and copies it on transfer; LAMMPS's default
-  transfer negates every value), and the 1-rank and 2-rank runs agree to round-off amplified by
-  the dynamics (the force sums run in another order).
+  off, in a shear flow that moves atoms between the ranks: every contact's κ >= 0 and
+  dissipation >= 0 every 100 steps (the pair style stores the history in the pair's canonical
+  orientation and copies it on transfer; LAMMPS's default transfer negates every value), and
+  each contact's κ is the 1-rank run's to round-off amplified by the dynamics (the force sums
+  run in another order).
 - Restart: stopped at half, ``write_restart``, ``read_restart`` in a new LAMMPS, run on:
   bit for bit the run that went on in the first LAMMPS (1 rank). This one runs without
   ``fix deform``: with a box deforming, a ``run`` that starts again (restarted or not)
@@ -142,25 +143,82 @@ def test_coulomb_with_rescaled_history_equals_pair_granular(setup, tmp_path):
     assert np.abs(radius_lever[:, 4:10] - theirs[:, 4:10]).max() > 1e-4 * vscale
 
 
+def _local_frames(path):
+    """The frames of a ``dump local`` file: [(step, rows), ...]."""
+    lines, frames, k = path.read_text().splitlines(), [], 0
+    while k < len(lines):
+        step, n = int(lines[k + 1]), int(lines[k + 3])
+        rows = np.array([line.split() for line in lines[k + 9:k + 9 + n]], float)
+        frames.append((step, rows.reshape(n, -1)))
+        k += 9 + n
+    return frames
+
+
+def _closed(rows):
+    """{(lower ID, higher ID): (N, κ, dissipation)} of the contacts with N > 0 in the rows
+    ``patom1 patom2 p1..p5`` (with newton off a pair across ranks is listed by both ranks:
+    both copies are returned, under the same key, as a list)."""
+    out = {}
+    for i, j, n, _, _, diss, kappa in rows[rows[:, 2] > 0.0]:
+        out.setdefault((int(min(i, j)), int(max(i, j))), []).append((n, kappa, diss))
+    return out
+
+
 @pytest.mark.parametrize("newton", ["on", "off"])
 def test_history_across_two_ranks_hardening(setup, tmp_path, newton):
-    """2 ranks (``processors 2 1 1``): no κ and no dissipation below zero after 1,000 steps of
-    shear (contacts migrate between ranks and between the atoms of their pair), and the same
-    trajectories as on 1 rank up to round-off amplified by the dynamics."""
+    """A hardening law (κ ≥ 0 grows with the slip) on 2 ranks (``processors 2 1 1``) in a
+    shear flow (``velocity all ramp vx -1 1`` across y, kept by ``fix deform xy erate
+    2/ly remap v``), 2,000 steps: over 50 atoms change rank, and contacts move between ranks
+    and between the atoms of their pair (the pair style stores the history in the pair's
+    canonical orientation and copies it on transfer; LAMMPS's default transfer negates every
+    value). Every 100 steps (``compute pair/local`` beside ``property/local patom1 patom2``):
+    no κ and no dissipation below zero, and each contact's κ is the 1-rank run's to 1e-8 of
+    the largest κ (the runs differ by the order of the force sums, round-off the dynamics
+    amplify: about 1e-11 after 2,000 steps; a contact in one run and not the other carries a
+    normal force below 1e-6 of the largest). At the end the same trajectories as on 1 rank."""
     install, data, pair = setup
-    local = "p1 p2 p3 p4 p5"
-    one = _run(install, tmp_path / "one", _head(data, newton) + pair["hardening"]
-               + _tail(1000, local))
+    flow = """compute pl all pair/local p1 p2 p3 p4 p5 cutoff radius
+compute pp all property/local patom1 patom2 cutoff radius
+compute rank all property/atom proc
+dump contacts all local 100 local.dump c_pp[1] c_pp[2] c_pl[1] c_pl[2] c_pl[3] c_pl[4] c_pl[5]
+dump_modify contacts format float %.17g
+dump ranks all custom 100 ranks.dump id c_rank
+dump_modify ranks sort id
+comm_modify vel yes
+neighbor 0.3 bin
+neigh_modify delay 0 every 1 check yes
+timestep 1e-3
+fix 1 all nve/sphere
+velocity all ramp vx -1.0 1.0 y 0.0 $(ly:%.17g) sum no
+fix 2 all deform 1 xy erate $(2.0/ly:%.17g) remap v
+run 2000
+write_dump all custom out.dump id x y z vx vy vz omegax omegay omegaz modify format float %.17g
+"""
+    one = _run(install, tmp_path / "one", _head(data, newton) + pair["hardening"] + flow)
     two = _run(install, tmp_path / "two", _head(data, newton, "processors 2 1 1\n")
-               + pair["hardening"] + _tail(1000, local), ranks=2)
-    for folder in ("one", "two"):
-        rows = np.loadtxt(tmp_path / folder / "local.dump", skiprows=9, ndmin=2)
-        closed = rows[rows[:, 0] > 0.0]
-        assert len(closed) > 500
-        assert (closed[:, 4] >= 0.0).all(), "an internal variable kappa < 0"
-        assert (closed[:, 3] >= -1e-12).all(), "a negative accumulated dissipation"
-        assert closed[:, 4].max() > 0.0 and closed[:, 2].sum() > 0    # slid, hardened
-        assert closed[:, 3].sum() > 1.0                                 # and dissipated
+               + pair["hardening"] + flow, ranks=2)
+    ranks = np.array([rows[:, 1] for _, rows in _local_frames(tmp_path / "two" / "ranks.dump")])
+    assert set(np.unique(ranks)) == {0.0, 1.0}
+    assert (np.diff(ranks, axis=0) != 0).any(axis=0).sum() > 50       # atoms changed rank
+    frames = list(zip(_local_frames(tmp_path / "one" / "local.dump"),
+                      _local_frames(tmp_path / "two" / "local.dump")))
+    assert len(frames) == 21
+    kmax = 0.0
+    for (step, rows1), (step2, rows2) in frames[1:]:      # step 0: no force pass yet
+        assert step == step2
+        for rows in (rows1, rows2):
+            closed = rows[rows[:, 2] > 0.0]
+            assert len(closed) > 500
+            assert (closed[:, 6] >= 0.0).all(), f"an internal variable kappa < 0 at step {step}"
+            assert (closed[:, 5] >= -1e-12).all(), f"a negative dissipation at step {step}"
+        c1, c2 = _closed(rows1), _closed(rows2)
+        kmax = max(v[1] for vs in c1.values() for v in vs)
+        nmax = max(v[0] for vs in c1.values() for v in vs)
+        for key in set(c1) ^ set(c2):
+            assert max(v[0] for v in c1.get(key, c2.get(key))) < 1e-6 * nmax, (step, key)
+        diff = max(abs(v[1] - c1[key][0][1]) for key in set(c1) & set(c2) for v in c2[key])
+        assert diff <= 1e-8 * kmax, f"step {step}: kappa differs by {diff} (largest {kmax})"
+    assert kmax > 0.5                                      # slid and hardened: κ ≫ kh = 0.004
     vscale = np.abs(one[:, 4:10]).max()
     assert np.abs(one[:, 1:4] - two[:, 1:4]).max() < 1e-8
     assert np.abs(one[:, 4:10] - two[:, 4:10]).max() < 1e-7 * vscale
