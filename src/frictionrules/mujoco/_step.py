@@ -11,7 +11,9 @@ The stages of a step (MuJoCo's own functions, the contact solve replaced):
 2. the problem :math:`u = W r + q` of the contacts in the laws' frames (:mod:`._assemble`);
 3. the solve from the previous step's impulses (warm start): non-smooth Gauss–Seidel on the
    factored operator (:func:`frictionrules.multicontact.factored.solve_factored`, W not
-   formed), :func:`frictionrules.solve` on W where that does not apply or converge (:func:`_solve`);
+   formed), :func:`frictionrules.solve` on W where that does not apply or converge; where the
+   first sweeps stall, on ``q`` less the part of its gap term that no motion produces
+   (:mod:`._consistent`, :func:`_solve`);
 4. :math:`\ddot q = \ddot q_{smooth} + M^{-1}J^T r/h` (from the blocks) and MuJoCo's integrator
    (``mj_Euler`` for ``opt.integrator="Euler"``, ``mj_implicit`` for ``"implicit"`` and
    ``"implicitfast"``; ``"RK4"`` is refused: it would call MuJoCo's solver at its stages).
@@ -305,10 +307,12 @@ def step(model, data, laws, axes=None, *, default=None, previous: StepResult | N
     method, tol, max_iter
         As in :func:`frictionrules.solve`; ``tol`` is 1e-10 here (at 1e-8, three stacked boxes
         crept 0.13 mm in 1 s of resting, measured; at 1e-10, 4e-13 m) and ``max_iter`` 1000
-        (a solve that stalls above ``tol``, e.g. a non-associated law sticking where W is
-        singular, would otherwise run the method's own limit, 100,000 NSGS sweeps: seconds
-        per step). A solve stopped above ``tol`` is applied all the same; ``StepResult``
-        and ``Simulator.unconverged`` say so.
+        (a solve that stalls above ``tol`` would otherwise run the method's own limit,
+        100,000 NSGS sweeps: seconds per step). Where the first sweeps stall, the part of
+        the gap term that no motion produces is dropped from ``q`` (bodies on several
+        contacts at different heights: no stick solution otherwise; ``docs/mujoco.md``). A
+        solve stopped above ``tol`` is applied all the same; ``StepResult`` and
+        ``Simulator.unconverged`` say so.
     warm_distance : float
         A contact is warm-started from the previous step's contact of the same geom pair
         nearest to it within this distance (model length units).
