@@ -58,11 +58,13 @@ def _sled(law, steps, **kw):
 @pytest.mark.parametrize("kind", sorted(LAWS))
 @pytest.mark.parametrize("tol, max_iter", [(1e-8, 200), (1e-10, 1000)])
 def test_sled_stick_phase_every_solve_reaches_tol(kind, tol, max_iter):
-    """The first 40 steps (0.16 s: the sled settles and sticks on its three feet; steps 9–27
-    stopped above 1e-8 after 200 iterations, and the elliptic law's 10–26, while the gap term
-    was kept whole): every solve ends at most ``tol``."""
-    sim = _sled(LAWS[kind], 40, tol=tol, max_iter=max_iter)
-    assert sim.steps == 40 and sim.last.nc == 3
+    """The first 220 steps (0.88 s): the sled settles and sticks on its three feet (steps
+    9–27 of the wedge law stopped above 1e-8 after 200 iterations, and the elliptic law's
+    10–26, while the gap term was kept whole), then slides (step 213 of the wedge law: the
+    sweeps converge slowly there, about 900 of them, Newton's steps on W in a few): every
+    solve ends at most ``tol``."""
+    sim = _sled(LAWS[kind], 220, tol=tol, max_iter=max_iter)
+    assert sim.steps == 220 and sim.last.nc == 3
     assert sim.unconverged == 0
     assert sim.max_error <= tol
 
