@@ -162,8 +162,9 @@ def _forward(mujoco, model, data):
                                      "give the model more memory (<size memory=\"64M\"/>)")
 
 
-#: Sweeps of the factored NSGS (``method`` "auto") before the step builds W and hands the
-#: problem to :func:`frictionrules.solve` (the cone path's "auto" probes as many NSGS sweeps).
+#: Sweeps of the factored NSGS on ``q`` as assembled, and (``method`` "auto") on ``q`` with its
+#: gap term made consistent, before the step builds W and hands the problem to
+#: :func:`frictionrules.solve` (the cone path's "auto" probes as many NSGS sweeps).
 FACTORED_SWEEPS = 50
 #: Newton steps on the law path's natural map (``method="polish"`` on W) after the factored
 #: sweeps of "auto" have not converged, before the law path's own "auto" takes the rest.
