@@ -108,7 +108,7 @@ def breakdown(model, law, steps: int) -> dict:
         t.append(time.thread_time())
         r0, _ = _step._warm_start(sim.last, A, h, sim._scene.ngeom, 0.01)
         t.append(time.thread_time())
-        sol = _step._solve(A, claws, r0, p)
+        sol = _step._solve(A, claws, r0, p, h)
         t.append(time.thread_time())
         force = np.einsum("ki,kij->kj", sol.r.reshape(-1, 3), A.frames) / h
         efc = np.zeros(int(sim.data.nefc))

@@ -11,7 +11,9 @@ The stages of a step (MuJoCo's own functions, the contact solve replaced):
 2. the problem :math:`u = W r + q` of the contacts in the laws' frames (:mod:`._assemble`);
 3. the solve from the previous step's impulses (warm start): non-smooth Gauss–Seidel on the
    factored operator (:func:`frictionrules.multicontact.factored.solve_factored`, W not
-   formed), :func:`frictionrules.solve` on W where that does not apply or converge (:func:`_solve`);
+   formed), :func:`frictionrules.solve` on W where that does not apply or converge; where the
+   first sweeps stall, on ``q`` less the part of its gap term that no motion produces
+   (:mod:`._consistent`, :func:`_solve`);
 4. :math:`\ddot q = \ddot q_{smooth} + M^{-1}J^T r/h` (from the blocks) and MuJoCo's integrator
    (``mj_Euler`` for ``opt.integrator="Euler"``, ``mj_implicit`` for ``"implicit"`` and
    ``"implicitfast"``; ``"RK4"`` is refused: it would call MuJoCo's solver at its stages).
@@ -160,9 +162,13 @@ def _forward(mujoco, model, data):
                                      "give the model more memory (<size memory=\"64M\"/>)")
 
 
-#: Sweeps of the factored NSGS (``method`` "auto") before the step builds W and hands the
-#: problem to :func:`frictionrules.solve` (the cone path's "auto" probes as many NSGS sweeps).
+#: Sweeps of the factored NSGS on ``q`` as assembled, and (``method`` "auto") on ``q`` with its
+#: gap term made consistent, before the step builds W and hands the problem to
+#: :func:`frictionrules.solve` (the cone path's "auto" probes as many NSGS sweeps).
 FACTORED_SWEEPS = 50
+#: Newton steps on the law path's natural map (``method="polish"`` on W) after the factored
+#: sweeps of "auto" have not converged, before the law path's own "auto" takes the rest.
+POLISH_STEPS = 20
 
 
 def _contact_laws(scene: Scene, geom1, geom2):
@@ -177,29 +183,62 @@ def _contact_laws(scene: Scene, geom1, geom2):
     return reduced
 
 
-def _solve(A, claws, r0, p: _Params):
+def _solve(A, claws, r0, p: _Params, h: float):
     """The step's solve: the factored sweeps (:func:`~frictionrules.multicontact.factored.solve_factored`,
-    W not formed) for ``method`` "nsgs" and "auto"; where "auto" has not converged after
-    :data:`FACTORED_SWEEPS` sweeps, and for the other methods and elliptic cones with turned
-    frames, :func:`frictionrules.solve` on W (:meth:`TreeBlocks.delassus`), from the sweeps'
-    impulses."""
+    W not formed) for ``method`` "nsgs" and "auto", at most :data:`FACTORED_SWEEPS` of them on
+    ``q`` as assembled. Where they have not converged, ``q`` loses the part of its gap term that
+    no motion produces (:func:`._consistent.consistent_q`: the stalls of bodies on several
+    contacts, whose W is singular) and the solve goes on from the sweeps' impulses: "nsgs"
+    sweeps on; "auto" sweeps :data:`FACTORED_SWEEPS` more, then, where still above ``tol``,
+    and for the other methods and elliptic cones with turned frames, :func:`frictionrules.solve`
+    on W (:meth:`TreeBlocks.delassus`)."""
+    from ._consistent import consistent_q, gap_term
     limit = METHODS[p.method].max_iter if p.max_iter is None else int(p.max_iter)
-    first = None
-    if p.method in ("auto", "nsgs") and (claws.path == "law" or claws.frames is None):
-        sweeps = limit if p.method == "nsgs" else min(limit, FACTORED_SWEEPS)
-        first = solve_factored(claws, A.blocks, A.q, r0, tol=p.tol, max_iter=sweeps)
+    stages = []
+    q = A.q
+    factored = p.method in ("auto", "nsgs") and (claws.path == "law" or claws.frames is None)
+    if factored:
+        first = solve_factored(claws, A.blocks, q, r0, tol=p.tol, max_iter=min(limit, FACTORED_SWEEPS))
+        stages.append(first)
         if first.converged or first.reason == "unbounded" or first.iterations >= limit:
             return first
         r0 = first.r
-    problem = FrictionContactProblem(A.blocks.delassus(), A.q, claws.laws)
-    sol = solve(problem, p.method, p.tol, limit - (0 if first is None else first.iterations), r0=r0)
-    if first is None:
-        return sol
+    q = consistent_q(A.blocks, A.q, gap_term(A.gap, p.baumgarte, h))
+    done = sum(s.iterations for s in stages)
+    if factored:
+        budget = limit - done if p.method == "nsgs" else min(limit - done, FACTORED_SWEEPS)
+        second = solve_factored(claws, A.blocks, q, r0, tol=p.tol, max_iter=budget)
+        stages.append(second)
+        done += second.iterations
+        if second.converged or second.reason == "unbounded" or done >= limit:
+            return _joined(stages)
+        r0 = second.r
+    problem = FrictionContactProblem(A.blocks.delassus(), q, claws.laws)
+    if factored and claws.path == "law" and p.method == "auto":
+        # the sweeps have run: Newton's steps on the law path's natural map first (the law
+        # path's "auto" would sweep AUTO_SWEEPS times more before its first one)
+        polished = solve(problem, "polish", p.tol, min(POLISH_STEPS, limit - done), r0=r0)
+        stages.append(polished)
+        done += polished.iterations
+        if polished.converged or done >= limit:
+            return _joined(stages)
+        r0 = polished.r
+    stages.append(solve(problem, p.method, p.tol, limit - done, r0=r0))
+    return _joined(stages)
+
+
+def _joined(stages):
+    """One :class:`~frictionrules.Solution` of the solves run one after the other (the last
+    one's impulses and error; iterations, histories and times summed)."""
+    last = stages[-1]
+    if len(stages) == 1:
+        return last
+    its = np.cumsum([0] + [s.iterations for s in stages])
     return dataclasses.replace(
-        sol, iterations=first.iterations + sol.iterations, method=f"nsgs+{sol.method}",
-        history=np.concatenate((first.history, sol.history)),
-        history_iterations=np.concatenate((first.history_iterations, first.iterations + sol.history_iterations)),
-        seconds=first.seconds + sol.seconds, cpu_seconds=first.cpu_seconds + sol.cpu_seconds)
+        last, iterations=int(its[-1]), method="+".join(s.method for s in stages),
+        history=np.concatenate([s.history for s in stages]),
+        history_iterations=np.concatenate([k + s.history_iterations for k, s in zip(its, stages)]),
+        seconds=sum(s.seconds for s in stages), cpu_seconds=sum(s.cpu_seconds for s in stages))
 
 
 def _advance(mujoco, model, data, scene: Scene, previous, p: _Params) -> StepResult:
@@ -217,7 +256,7 @@ def _advance(mujoco, model, data, scene: Scene, previous, p: _Params) -> StepRes
     else:
         claws = _contact_laws(scene, A.geom1, A.geom2)
         r0, warm = _warm_start(previous, A, h, scene.ngeom, p.warm_distance)
-        sol = _solve(A, claws, r0, p)
+        sol = _solve(A, claws, r0, p, h)
         r = sol.r.reshape(nc, 3)
     force = np.einsum("ki,kij->kj", r, A.frames) / h
     if nc:
@@ -269,10 +308,12 @@ def step(model, data, laws, axes=None, *, default=None, previous: StepResult | N
     method, tol, max_iter
         As in :func:`frictionrules.solve`; ``tol`` is 1e-10 here (at 1e-8, three stacked boxes
         crept 0.13 mm in 1 s of resting, measured; at 1e-10, 4e-13 m) and ``max_iter`` 1000
-        (a solve that stalls above ``tol``, e.g. a non-associated law sticking where W is
-        singular, would otherwise run the method's own limit, 100,000 NSGS sweeps: seconds
-        per step). A solve stopped above ``tol`` is applied all the same; ``StepResult``
-        and ``Simulator.unconverged`` say so.
+        (a solve that stalls above ``tol`` would otherwise run the method's own limit,
+        100,000 NSGS sweeps: seconds per step). Where the first sweeps stall, the part of
+        the gap term that no motion produces is dropped from ``q`` (bodies on several
+        contacts at different heights: no stick solution otherwise; ``docs/mujoco.md``). A
+        solve stopped above ``tol`` is applied all the same; ``StepResult`` and
+        ``Simulator.unconverged`` say so.
     warm_distance : float
         A contact is warm-started from the previous step's contact of the same geom pair
         nearest to it within this distance (model length units).
