@@ -41,14 +41,15 @@ def project_law(fn, row, ell, x0, x1, x2, s, du, s1, res, ws, tan, want=False):
     the consistent tangent of the return, ``d(T1, T2, N)/d(du)``, is written to ``tan``
     (:func:`tangent_of` turns it into :math:`\partial P_K/\partial x`). A law of two coaxial
     elliptic cones (``ell[0]`` 1: :func:`frictionrules.codegen.elliptic_cones`) is projected
-    by :func:`._cones_kernels.cones_project`; every other law by the contact layer's update."""
+    by :func:`._cones_kernels.cones_project` where no tangent is wanted; every other law, and
+    the tangent of every law, by the contact layer's update (the polish's Newton steps with
+    the cones' own derivative took 35 times the sweeps on spheres-in-a-box under the
+    transformed rule (1.18): 25,516 against 717)."""
     kt, kn = row[LAW_KT], row[LAW_KN]
-    if ell[0] != 0.0:
-        p0, p1, p2, kind, ok, DP = cones_project((ell[1], ell[2], ell[3], ell[4], ell[5], ell[6],
-                                                  ell[7]), x0, x1, x2)
+    if ell[0] != 0.0 and not want:
+        p0, p1, p2, kind, ok, _DP = cones_project((ell[1], ell[2], ell[3], ell[4], ell[5],
+                                                   ell[6], ell[7]), x0, x1, x2)
         if ok:
-            if want:
-                _put(tan, kt, kn, DP)
             return p0, p1, p2, kind, False
     if x0 > 0.0 and limit_value(fn, row, ws.qn, -x1, -x2, x0, ws) <= 0.0:
         # inside the limit surface: P_K(x) = x, the elastic tangent; the limit check alone
@@ -66,18 +67,6 @@ def project_law(fn, row, ell, x0, x1, x2, s, du, s1, res, ws, tan, want=False):
     du[2] = -x0 / kn
     kind, failed = contact_update(fn, row, s, du, s1, res, ws, 0, want, tan)
     return res[RES_FORCE + 2], -res[RES_FORCE], -res[RES_FORCE + 1], kind, failed
-
-
-@njit(cache=True)
-def _put(tan, kt, kn, DP):
-    r"""``tan`` (the update's ``d(T1, T2, N)/d(du)``, as :func:`project_law` writes it) from
-    :math:`\partial P_K/\partial x` in FCLIB's ordering (row-major, 9 numbers): the inverse
-    of :func:`tangent_of`."""
-    for i in range(3):
-        for k in range(3):
-            sign = 1.0 if i == 0 else -1.0
-            factor = -1.0 / kn if k == 0 else -1.0 / kt
-            tan[2 if i == 0 else i - 1, 2 if k == 0 else k - 1] = DP[3 * i + k] / (sign * factor)
 
 
 @njit(cache=True)
