@@ -254,10 +254,13 @@ def run_lammps(files: LammpsFiles, *, ranks: int = 1, progress=None,
                 except subprocess.TimeoutExpired:
                     proc.kill()
                     proc.wait()
-                ended = f"stopped: max_time = {max_time!r} s reached"
+                if not _shear_done(files.folder):    # LAMMPS may have finished meanwhile
+                    ended = f"stopped: max_time = {max_time!r} s reached"
                 break
     if ended is not None:
         return ended
+    if proc.returncode != 0 and _shear_done(files.folder):    # finished, then terminated
+        return "completed"
     if proc.returncode == _NOT_SETTLED:
         stages = (files.folder / STAGES).read_text().strip().splitlines()
         raise FrictionRulesError(f"LAMMPS: the {stages[-1].removeprefix('stage ')}; constraint: "
@@ -311,10 +314,15 @@ def _version(folder: Path) -> str:
     return "LAMMPS"
 
 
+def _shear_done(folder: Path) -> bool:
+    """The stages' file says the shear finished (the script's last line)."""
+    stages = folder / STAGES
+    return stages.exists() and "shear done" in stages.read_text()
+
+
 def _ended(folder: Path, records: int) -> str:
     """How a run ended, from its stages' file: "completed" where the shear finished."""
-    stages = folder / STAGES
-    if stages.exists() and "shear done" in stages.read_text():
+    if _shear_done(folder):
         return "completed"
     return f"stopped after {records - 1} records (the shear did not finish)"
 
