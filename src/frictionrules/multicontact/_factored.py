@@ -22,10 +22,8 @@ import numpy as np
 
 from .._optional import require
 from ._kernels import _EPS, check_interval, error_sum, local_solve, norm2
-from ..contact.layout import LAW_KN, LAW_KT
-from ._cones_kernels import block_of, cones_local, cones_of
 from ..contact import workspace
-from ._law_kernels import _local, metric_rows, natural_residual, scratch
+from ._law_kernels import contact_local, metric_rows, natural_residual, scratch
 
 njit = require("numba", extra="kernels").njit
 
@@ -173,13 +171,8 @@ def factored_law_nsgs(tree, off, Jp, Bp, dofadr, dofnum, D, q, fn, rows_1, ell, 
         for a in range(nc):
             i = 3 * a
             _rhs(tree, off, Jp, dofadr, dofnum, v, q, D, r, a, b)
-            if ell[a, 0] != 0.0:
-                r0, r1, r2 = cones_local(block_of(D, a), b[0], b[1], b[2], cones_of(ell, a),
-                                         rows_k[a, LAW_KN], rows_k[a, LAW_KT], r[i], r[i + 1], r[i + 2],
-                                         local_iter, local_tol)
-            else:
-                r0, r1, r2 = _local(D[a], b, fn[a], rows_k[a], ell[a], dilatant[a], r[i], r[i + 1],
-                                    r[i + 2], local_iter, local_tol, s, du, s1, res, ws, tan)
+            r0, r1, r2 = contact_local(D, a, b, fn, rows_k, ell, dilatant, r, local_iter,
+                                       local_tol, s, du, s1, res, ws, tan)
             d0, d1, d2 = r0 - r[i], r1 - r[i + 1], r2 - r[i + 2]
             dr2 += d0 * d0 + d1 * d1 + d2 * d2
             rr += r0 * r0 + r1 * r1 + r2 * r2

@@ -196,6 +196,20 @@ def _local(A, b, fn, row, ell, dilatant, r0, r1, r2, local_iter, local_tol, s, d
 
 
 @njit(cache=True)
+def contact_local(D, a, b, fn, rows_k, ell, dilatant, r, local_iter, local_tol, s, du, s1, res,
+                  ws, tan):
+    """Contact ``a``'s local problem in a sweep (``b`` its right-hand side, ``r`` the current
+    reactions): :func:`._cones_kernels.cones_local` on scalars for a law of two coaxial elliptic
+    cones, :func:`_local` for every other law."""
+    i = 3 * a
+    if ell[a, 0] != 0.0:
+        return cones_local(block_of(D, a), b[0], b[1], b[2], cones_of(ell, a), rows_k[a, LAW_KN],
+                           rows_k[a, LAW_KT], r[i], r[i + 1], r[i + 2], local_iter, local_tol)
+    return _local(D[a], b, fn[a], rows_k[a], ell[a], dilatant[a], r[i], r[i + 1], r[i + 2],
+                  local_iter, local_tol, s, du, s1, res, ws, tan)
+
+
+@njit(cache=True)
 def _residual(A, b, fn, row, ell, om, r0, r1, r2, s, du, s1, res, ws, tan, want):
     r""":math:`R(r) = r - P_K(r - \omega K(Ar + b))` and, with ``want``, the return's tangent
     in ``tan``."""
@@ -294,13 +308,8 @@ def law_nsgs(indptr, indices, data, D, q, fn, rows_k, rows_1, ell, dilatant, r, 
         for a in range(nc):
             i = 3 * a
             local_rhs(indptr, indices, data, q, D, r, a, b)
-            if ell[a, 0] != 0.0:
-                r0, r1, r2 = cones_local(block_of(D, a), b[0], b[1], b[2], cones_of(ell, a),
-                                         rows_k[a, LAW_KN], rows_k[a, LAW_KT], r[i], r[i + 1], r[i + 2],
-                                         local_iter, local_tol)
-            else:
-                r0, r1, r2 = _local(D[a], b, fn[a], rows_k[a], ell[a], dilatant[a], r[i], r[i + 1],
-                                    r[i + 2], local_iter, local_tol, s, du, s1, res, ws, tan)
+            r0, r1, r2 = contact_local(D, a, b, fn, rows_k, ell, dilatant, r, local_iter,
+                                       local_tol, s, du, s1, res, ws, tan)
             dr2 += (r0 - r[i]) ** 2 + (r1 - r[i + 1]) ** 2 + (r2 - r[i + 2]) ** 2
             rr += r0 * r0 + r1 * r1 + r2 * r2
             r[i], r[i + 1], r[i + 2] = r0, r1, r2
