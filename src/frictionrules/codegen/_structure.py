@@ -77,10 +77,9 @@ class ReturnStructure:
     c: object = None
 
 
-def _zero(expr, points) -> bool:
-    """True when ``expr`` vanishes identically: numerically at ``points`` first (a quick
-    no), then proved by SymPy."""
-    import sympy
+def _vanishes_at(expr, points) -> bool:
+    """``expr`` is zero (to 1e-9) at every substitution of ``points``: the quick no of
+    :func:`_zero` and :func:`_zero_expanded`."""
     for sub in points:
         try:
             value = complex(expr.xreplace(sub).evalf())
@@ -88,7 +87,14 @@ def _zero(expr, points) -> bool:
             return False
         if not abs(value) <= 1e-9:
             return False
-    return sympy.simplify(expr) == 0
+    return True
+
+
+def _zero(expr, points) -> bool:
+    """True when ``expr`` vanishes identically: numerically at ``points`` first (a quick
+    no), then proved by SymPy."""
+    import sympy
+    return _vanishes_at(expr, points) and sympy.simplify(expr) == 0
 
 
 def _points(symbols, count=3):
@@ -194,14 +200,8 @@ def _zero_expanded(expr, points) -> bool:
     """:func:`_zero`, trying the expansion first (a polynomial identity is proved by it at once;
     SymPy's simplify, with its trigonometric rewriting of a turned law's axes, took seconds)."""
     import sympy
-    for sub in points:
-        try:
-            value = complex(expr.xreplace(sub).evalf())
-        except (TypeError, ValueError, ZeroDivisionError):
-            return False
-        if not abs(value) <= 1e-9:
-            return False
-    return sympy.expand(expr) == 0 or sympy.simplify(expr) == 0
+    return _vanishes_at(expr, points) and (sympy.expand(expr) == 0
+                                           or sympy.simplify(expr) == 0)
 
 
 def _quadratic_form(expr, variables, points):
