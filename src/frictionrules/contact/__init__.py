@@ -9,11 +9,15 @@ from .state import ContactState, UpdateResult
 
 #: The compiled entry of one contact update (Numba), imported on first use: ``contact_update``,
 #: the limit check alone ``limit_value``, and the per-thread ``workspace`` / ``Workspace`` of
-#: :mod:`frictionrules.contact._return_kernel`.
+#: :mod:`frictionrules.contact._return_kernel`; the root of the elliptic return's scalar
+#: equation ``ellipse_root`` (:mod:`frictionrules.contact._kernel_special`).
 _COMPILED = ("contact_update", "limit_value", "workspace", "Workspace")
 
 
 def __getattr__(name):
+    if name == "ellipse_root":
+        from . import _kernel_special
+        return _kernel_special.ellipse_root
     if name in _COMPILED:
         from . import _return_kernel
         return getattr(_return_kernel, name)

@@ -28,21 +28,32 @@ def elliptic_return(law, x0, x1, kt, f_tr):
     r = g - f_tr / law[RET_C]
     if not r > 0.0:
         return False, 0.0, 0.0, 0.0
-    r2 = r * r
-    # Start left of the root, where Newton's iteration on the convex decreasing function stays:
-    # with the larger eigenvalue in both denominators the sum is g²/(1 + x max α)².
-    y = max((g / r - 1.0) / max(al1, al2), 0.0)
-    for it in range(_SCALAR_MAX_ITER + 1):
-        if it == _SCALAR_MAX_ITER:
-            return False, 0.0, 0.0, 0.0
-        d1 = 1.0 + y * al1
-        d2 = 1.0 + y * al2
-        q1 = al1 * a1 * a1 / (d1 * d1)
-        q2 = al2 * a2 * a2 / (d2 * d2)
-        dy = (q1 + q2 - r2) / (2.0 * (q1 * al1 / d1 + q2 * al2 / d2))
-        y += dy
-        if dy <= _SCALAR_TOL * y:
-            break
+    ok, y = ellipse_root(a1, a2, al1, al2, al1, al2, g, r)
+    if not ok:
+        return False, 0.0, 0.0, 0.0
     b1 = a1 / (1.0 + y * al1)
     b2 = a2 / (1.0 + y * al2)
     return True, c * b1 - s * b2, s * b1 + c * b2, y * r / kt
+
+
+@njit(inline="always", error_model="numpy", _nrt=False)
+def ellipse_root(a1, a2, al1, al2, pi1, pi2, k, r):
+    """The multiplier ``y`` of a return along ``g² = α1 a1² + α2 a2²`` (principal frame) onto
+    ``π1 b1² + π2 b2² = r²``, ``b_i = a_i/(1 + y α_i)``: the root of
+    ``Σ π_i a_i²/(1 + y α_i)² = r²``, convex and decreasing in y, by Newton's iteration from a
+    point left of the root (the root with the larger α in both terms: ``k/(1 + y max α) = r``,
+    ``k² = Σ π_i a_i²``), where it rises monotonically. Returns ``(ok, y)``; not ok after
+    ``SCALAR_MAX_ITER`` steps. The associated elliptic return (π = α) and the projection of
+    two coaxial elliptic cones in the many-contact solvers share it."""
+    r2 = r * r
+    y = max((k / r - 1.0) / max(al1, al2), 0.0)
+    for _ in range(_SCALAR_MAX_ITER):
+        d1 = 1.0 + y * al1
+        d2 = 1.0 + y * al2
+        q1 = pi1 * a1 * a1 / (d1 * d1)
+        q2 = pi2 * a2 * a2 / (d2 * d2)
+        dy = (q1 + q2 - r2) / (2.0 * (q1 * al1 / d1 + q2 * al2 / d2))
+        y += dy
+        if dy <= _SCALAR_TOL * y:
+            return True, y
+    return False, y

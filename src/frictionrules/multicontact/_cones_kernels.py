@@ -21,8 +21,8 @@ from __future__ import annotations
 import numpy as np
 
 from .._optional import require
-from .._returnspec import SCALAR_MAX_ITER, SCALAR_TOL
 from .._returnspec import TOL as RETURN_TOL
+from ..contact import ellipse_root
 
 njit = require("numba", extra="kernels").njit
 
@@ -79,18 +79,7 @@ def cones_project(e, x0, x1, x2):
     k2 = pi1 * a1 * a1 + pi2 * a2 * a2
     if k2 <= r2:
         return x0, x1, x2, 0, True, (1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0)
-    y = max((np.sqrt(k2) / R - 1.0) / max(al1, al2), 0.0)
-    ok = False
-    for _ in range(SCALAR_MAX_ITER):
-        d1 = 1.0 + y * al1
-        d2 = 1.0 + y * al2
-        q1 = pi1 * a1 * a1 / (d1 * d1)
-        q2 = pi2 * a2 * a2 / (d2 * d2)
-        dy = (q1 + q2 - r2) / (2.0 * (q1 * al1 / d1 + q2 * al2 / d2))
-        y += dy
-        if dy <= SCALAR_TOL * y:
-            ok = True
-            break
+    ok, y = ellipse_root(a1, a2, al1, al2, pi1, pi2, np.sqrt(k2), R)
     d1 = 1.0 + y * al1
     d2 = 1.0 + y * al2
     b1 = a1 / d1
