@@ -522,7 +522,7 @@ def test_W_tree_by_tree_equals_the_dense_J_Minv_JT_of_an_articulated_model():
         nc = some.size
         tree, off, Jp, Bp, D, q = _kernels.contact_blocks(
             some, rowadr, rownnz, colind, values, trees.dof_tree, trees.dofadr, trees.dofnum, trees.X,
-            np.zeros((1, 2, 2)), np.zeros(nc, dtype=bool), np.zeros(m.nv), np.zeros(nc), 0.2, 1.0)
+            np.zeros((1, 2, 2)), np.zeros(nc, dtype=bool), np.zeros(m.nv), np.zeros(nc))
         blocks = TreeBlocks(tree, off, Jp, Bp, trees.dofadr, trees.dofnum, D, m.nv)
         rows = (some[:, None] + np.arange(3)).ravel()
         W = blocks.delassus().toarray()

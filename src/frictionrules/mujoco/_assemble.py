@@ -148,6 +148,7 @@ def assemble(sp, mujoco, model, data, scene, baumgarte: float) -> Assembled:
     """The problem of the current step (the forward stages have run). Contacts are those with
     constraint rows (``efc_address >= 0``), in MuJoCo's order."""
     from ..multicontact.factored import TreeBlocks
+    from ._consistent import gap_term
     from ._kernels import contact_blocks
     refuse_other_rows(mujoco, model, data)
     ncon = int(data.ncon)
@@ -196,8 +197,9 @@ def assemble(sp, mujoco, model, data, scene, baumgarte: float) -> Assembled:
     h = float(model.opt.timestep)
     vfree = np.asarray(data.qvel) + h * np.asarray(data.qacc_smooth)
     rowadr, rownnz, colind, values = _jacobian_csr(sp, mujoco, model, data)
+    gap_velocity = gap_term(gap, float(baumgarte), h)[0::3].copy()
     tree, off, Jp, Bp, D, q = contact_blocks(start, rowadr, rownnz, colind, values, trees.dof_tree, trees.dofadr,
-                                             trees.dofnum, X, C, turned, vfree, gap, float(baumgarte), h)
+                                             trees.dofnum, X, C, turned, vfree, gap_velocity)
     blocks = TreeBlocks(tree, off, Jp, Bp, trees.dofadr, trees.dofnum, D, int(model.nv))
     rows = (start[:, None] + np.arange(3)).ravel()
     return Assembled(blocks, q, law_frames, frames, rows, pos, geom1, geom2, gap, fallback)

@@ -38,8 +38,9 @@ SHIFT = 1e-10
 
 
 def gap_term(gap, baumgarte: float, h: float) -> np.ndarray:
-    r""":math:`\gamma/h\,e_N` (3 nc,), as :func:`._kernels.contact_blocks` adds it to ``q``
-    (``gamma = gap`` where ``gap > 0``, else ``baumgarte * gap``)."""
+    r""":math:`\gamma/h\,e_N` (3 nc,), the gap term of ``q`` (:func:`._assemble.assemble` hands
+    its normal parts to :func:`._kernels.contact_blocks`): ``gamma = gap`` where ``gap > 0``,
+    else ``baumgarte * gap``."""
     gap = np.asarray(gap, dtype=float)
     g = np.zeros(3 * gap.size)
     g[0::3] = np.where(gap > 0.0, gap, baumgarte * gap) / h

@@ -73,15 +73,15 @@ def warm_start(key_new, pos_new, frames_new, key_old, pos_old, force_old, h, dis
 
 @njit(cache=True)
 def contact_blocks(addr, rowadr, rownnz, colind, jdata, dof_tree, tree_dofadr, tree_dofnum, X, C, turned,
-                   vfree, gap, baumgarte, h):
+                   vfree, gap_velocity):
     r"""The blocks of :class:`frictionrules.multicontact.factored.TreeBlocks` and ``q`` of the
     contacts whose rows N, T1, T2 start at ``addr`` (nc,) in ``efc_J`` (CSR as MuJoCo stores
     it). Per contact and tree: :math:`J_{a,t}` (the rows T1, T2 turned by ``C[a]`` (2 x 2)
     where ``turned[a]``: MuJoCo's tangents to the law's), :math:`B_{a,t} = J_{a,t} M_t^{-1}`
     (``(M_t^{-1})_{c,c'} = X[c' - a_t, c]``, ``X`` from ``mj_solveM`` of :func:`minv_rhs`),
-    :math:`D_a = \sum_t J_{a,t}B_{a,t}^T`, and :math:`q_a = J_a v_{free} + \gamma_a/h\,e_N`
-    (``gamma = gap`` where ``gap > 0``, else ``baumgarte * gap``). Returns ``(tree, offset,
-    J, B, D, q)``."""
+    :math:`D_a = \sum_t J_{a,t}B_{a,t}^T`, and :math:`q_a = J_a v_{free} + \gamma_a/h\,e_N`,
+    ``gap_velocity`` (nc,) the normal parts :math:`\gamma_a/h` of
+    :func:`._consistent.gap_term`. Returns ``(tree, offset, J, B, D, q)``."""
     nc = addr.size
     tree = np.full((nc, 2), -1, np.int64)
     for a in range(nc):
@@ -166,8 +166,7 @@ def contact_blocks(addr, rowadr, rownnz, colind, jdata, dof_tree, tree_dofadr, t
                     for k in range(n):
                         acc += Jp[p + l * n + k] * Bp[p + l2 * n + k]
                     D[a, l, l2] += acc
-        g = gap[a] if gap[a] > 0.0 else baumgarte * gap[a]
-        q[3 * a] = u0 + g / h
+        q[3 * a] = u0 + gap_velocity[a]
         q[3 * a + 1] = u1
         q[3 * a + 2] = u2
     return tree, off, Jp, Bp, D, q
