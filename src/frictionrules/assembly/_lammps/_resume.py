@@ -24,8 +24,9 @@ import numpy as np
 
 from ...errors import FrictionRulesError, check_scalar
 from .._results import TriaxialResult
-from ._runner import (DATA, OPTIONS, RESUME, LammpsFiles, _records, check_lammps_options,
-                      read_lammps_triaxial, run_lammps, write_lammps_triaxial)
+from ._runner import (DATA, OPTIONS, RESUME, LammpsFiles, _records, _shear_done,
+                      check_lammps_options, read_lammps_triaxial, run_lammps,
+                      write_lammps_triaxial)
 from ._script import POSITIONS, RECORD_COLUMNS, RECORDS, RESTART_PREFIX, STAGES
 
 __all__ = ["resume_lammps_triaxial", "lammps_triaxial", "restart_files", "run_key"]
@@ -159,8 +160,7 @@ def lammps_triaxial(assembly, kind: str, *, pressure: float, axial_strain: float
     folder = Path(lammps_dir)
     key = run_key(assembly, kind, dict(options, pressure=pressure, axial_strain=axial_strain))
     if _recorded_key(folder) == key:
-        stages = folder / STAGES
-        if stages.exists() and "shear done" in stages.read_text():
+        if _shear_done(folder):
             return read_lammps_triaxial(assembly, folder, ended="completed (read back: this "
                                         "run had finished in this folder)")
         if (folder / RESUME).exists() and restart_files(folder):
