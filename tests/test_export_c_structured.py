@@ -134,3 +134,61 @@ def test_apex_and_opening(key, kernels):
     statuses = _run(key, kernels, [(0.0, 0.0, -1e-16), (0.05, 0.0, 0.0), (0.0, 0.0, -0.002),
                                    (0.01, 0.003, 0.0), (0.0, 0.0, 0.05)])
     assert statuses[1] == 2 and statuses[3] == 1 and statuses[4] == 2
+
+
+AXIS_LAWS = {
+    "coulomb": fr.Coulomb(0.3),
+    "dilatant": fr.Coulomb(0.3, dilatant=True),
+    "hardening": fr.HardenedLaw(fr.Coulomb(0.3), fr.SlipHardening(0.2, 0.05)),
+    "user_hardening": fr.UserLaw("sqrt(T1**2 + T2**2) - mu*(1 + h*(1 - exp(-kappa/kh)))*N",
+                                 potential="sqrt(T1**2 + T2**2)",
+                                 params={"mu": 0.3, "h": 0.6, "kh": 0.004},
+                                 state={"kappa": 0.0}, rates={"kappa": "slip"}),
+    "user_dilatant": fr.UserLaw("sqrt(T1**2+T2**2) - mu*N", potential="sqrt(T1**2+T2**2) - beta*N",
+                                params={"mu": 0.3, "beta": 0.1}),
+}
+
+
+def _values(pieces, inputs):
+    """Every output of the programs ``pieces`` at ``inputs`` (by symbol name), in order."""
+    import sympy
+    values = dict(inputs)
+    for _, prog in pieces:
+        for sym, expr in (*prog.temps, *prog.outputs):
+            expr = sympy.sympify(expr)
+            sub = {s: sympy.Float(values[s.name], 30) for s in expr.free_symbols}
+            values[str(sym)] = float(expr.xreplace(sub).evalf(30))
+    return values
+
+
+@pytest.mark.parametrize("key", sorted(AXIS_LAWS))
+def test_axis_pieces_are_the_radial_return_at_T2_zero(key):
+    """``step_programs(form, axis=True)`` (the LAMMPS pair style's return of a law that depends
+    on T through |T| only, its trial on the frame's axis): f, the radial return's outputs
+    (4.3, 4.5) and φ, φ' along it equal the general pieces at x1 = 0 < x0 (y1 = 0, y0 of either
+    sign), to 1e-13; the axis pieces take no square root of x0² (Coulomb's y0 is μN)."""
+    from frictionrules._export._lammps import isotropic
+    from frictionrules._export._spec import law_spec
+    from frictionrules.codegen import step_programs
+    law = AXIS_LAWS[key]
+    form = law.symbolic_form()
+    assert isotropic(law_spec(law, kt=KT, kn=KN))
+    general, axis = dict(step_programs(form)), dict(step_programs(form, axis=True))
+    assert "radial" in general and set(axis) == set(general) - {"tangent"}
+    rng = np.random.default_rng(7)
+    for _ in range(5):
+        inputs = {"x0": rng.uniform(0.1, 5.0), "x1": 0.0, "x2": rng.uniform(0.5, 5.0),
+                  "kt": KT, "kn": KN, "lam": rng.uniform(0.0, 0.01),
+                  "y0": rng.uniform(-2.0, 2.0), "y1": 0.0, "y2": rng.uniform(0.5, 5.0)}
+        inputs |= {f"p{k}": float(v) for k, v in enumerate(form.values)}
+        for j in range(len(form.state)):
+            inputs |= {f"q{j}": rng.uniform(0.0, 0.01), f"u{j}": rng.uniform(0.0, 0.01),
+                       f"h{j}": rng.uniform(0.5, 1.5)}
+        inputs |= {f"v{i}": rng.uniform(-1.0, 1.0) for i in range(3)} | {"v1": 0.0}
+        names = [n for piece in axis.values() for n, _ in piece.outputs]
+        got = _values([(k, axis[k]) for k in axis], inputs)
+        want = _values([(k, general[k]) for k in general if k != "tangent"], inputs)
+        for n in names:
+            assert got[n] == pytest.approx(want[n], rel=1e-13, abs=1e-13), (n, got[n], want[n])
+    if key == "coulomb":
+        assert {str(e) for n, e in axis["radial"].outputs if n == "y0"} <= {"a0", "p0*x2"}

@@ -22,6 +22,13 @@ response alone, where the general return would substep at the degenerate cone).
 
 Laws with another structure (elliptic, affine flow, none) get a ``structured_return`` that
 answers GENERAL at once (the compiler removes it).
+
+``structured_return_axis`` (``axis=True``, for a law that depends on T through :math:`|T|`
+only) is the same return for a trial on the axis of its frame, :math:`T_2 = 0 < T_1`: the
+pieces of :func:`frictionrules.codegen.step_programs` on the axis, where :math:`|T|` is
+:math:`T_1` (Coulomb's return is :math:`T_1 = \mu N`: no root, no quotient), without the
+tangent. The LAMMPS pair style takes the frame of an isotropic law along the trial's
+tangential displacement, so every closed contact it updates is such a trial.
 """
 
 from __future__ import annotations
@@ -35,6 +42,13 @@ _HEAD = """/* The return the law's structure offers (radial, closed form or one 
 static @INLINE@int structured_return(const double *sig_tr, const double *q, const double *p,
                              double kt, double kn, double *sig, double *q1, double *dlam,
                              double *dsig)
+{"""
+
+_HEAD_AXIS = """/* structured_return for a trial on the axis of its frame, sig_tr[1] = 0 < sig_tr[0] (this law
+   depends on T through |T| only): the same answers, without the tangent. */
+static inline int structured_return_axis(const double *sig_tr, const double *q, const double *p,
+                                         double kt, double kn, double *sig, double *q1,
+                                         double *dlam)
 {"""
 
 #: At the end of a radial return: the conditions of the compiled step (Δλ >= 0, N > 0, T does
@@ -73,25 +87,34 @@ def structure_kind(form) -> str:
     return "scalar" if "along" in names else "closed"
 
 
-def structured_c(spec, inline: bool = False) -> str:
+def structured_c(spec, inline: bool = False, axis: bool = False) -> str:
     """The C text of ``structured_return`` for the law of ``spec`` (a
     :class:`~frictionrules._export._spec.LawSpec`); ``static inline`` with ``inline`` (a
-    header's copy, which the LAMMPS pair style compiles into its contact loop)."""
+    header's copy, which the LAMMPS pair style compiles into its contact loop). With ``axis``,
+    ``structured_return_axis`` (static inline; empty where the return is not radial): for a
+    law that depends on T through :math:`|T|` only, which the caller checks."""
     from .._returnspec import GENERAL, SCALAR_MAX_ITER
     from ..codegen import c_block, step_programs, used_inputs
     prefix, nq = spec.name, spec.nq
     kind = structure_kind(spec.form)
-    head = _HEAD.replace("@GENERAL@", str(GENERAL)).replace("@INLINE@", "inline " if inline else "")
+    if axis:
+        if kind == "general":
+            return ""
+        head = _HEAD_AXIS
+    else:
+        head = _HEAD.replace("@GENERAL@", str(GENERAL)).replace("@INLINE@",
+                                                                "inline " if inline else "")
     if kind == "general":
         return head + "\n" + "\n".join(
             f"    (void){a};" for a in ("sig_tr", "q", "p", "kt", "kn", "sig", "q1", "dlam",
                                        "dsig")) + "\n    return GENERAL;\n}\n"
-    pieces = dict(step_programs(spec.form))
+    pieces = dict(step_programs(spec.form, axis=axis))
     used = set()
     for prog in pieces.values():
         used |= used_inputs(prog)
     lines = [head, f"#define SCALAR_MAX_ITER {SCALAR_MAX_ITER}",
-             "    const double x0 = sig_tr[0], x1 = sig_tr[1], x2 = sig_tr[2];"]
+             "    const double x0 = sig_tr[0], x1 = {}, x2 = sig_tr[2];".format(
+                 "0.0" if axis else "sig_tr[1]")]
     lines += [f"    const double q{j} = q[{j}];" for j in range(nq) if f"q{j}" in used]
     lines += [f"    const double p{k} = p[{k}];" for k in range(len(spec.param_names))
               if f"p{k}" in used]
@@ -112,7 +135,10 @@ def structured_c(spec, inline: bool = False) -> str:
     lines.append(_END)
     lines += [f"    sig[{i}] = y{i};" for i in range(3)]
     lines += [f"    q1[{j}] = u{j};" for j in range(nq)]
-    lines += ["    *dlam = lam;", "    if (dsig != NULL) {"]
+    lines += ["    *dlam = lam;"]
+    if axis:
+        return "\n".join(lines + ["    return PLASTIC;", "}", "#undef SCALAR_MAX_ITER", ""])
+    lines += ["    if (dsig != NULL) {"]
     lines += c_block(pieces["tangent"], "        ", prefix)
     # the tangent piece is d(sigma)/d(delta) = d(sigma)/d(sigma_tr) E, E = (kt, kt, -kn)
     lines += [f"        dsig[{3 * i + j}] = tan{i}{j} / {('kt', 'kt', '(-kn)')[j]};"

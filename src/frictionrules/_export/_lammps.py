@@ -95,14 +95,19 @@ def plugin_file(name: str) -> str:
 
 
 def _inline_step(spec) -> str:
-    """The law's step as the pair style calls it, ``fr_update``: where the law's symbolic
+    r"""The law's step as the pair style calls it, ``fr_update``: where the law's symbolic
     structure offers a radial return (:func:`._c_structured.structure_kind`), its closed
     contacts that the structured return answers (ELASTIC or PLASTIC) are computed in the pair
     style's own translation unit — the structured return of the ``c`` target, the same text
     printed ``static inline`` — so that the compiler inlines it into the contact loop; the
     other contacts (open, or left to the general return) call ``<name>_update``. The results
-    are those of ``<name>_update`` operation for operation (``step_once`` of the ``c``
-    target)."""
+    are those of ``<name>_update`` (``step_once`` of the ``c`` target) to round-off: a law
+    that depends on T through :math:`|T|` only (:func:`isotropic`) returns a trial on the
+    axis of its frame, :math:`T_2 = 0 < T_1` (every closed contact of the pair style, which
+    takes the frame along the trial's displacement), by ``structured_return_axis``, where
+    :math:`|T|` is :math:`T_1` (Coulomb's return, :math:`T_1 = \mu N`, takes no root and no
+    quotient); the elastic displacement at the end is the force times ``1/kt`` and
+    ``1/kn``, computed beside the return."""
     from .._returnspec import ELASTIC, PLASTIC, placeholders
     from ..codegen import c_helpers
     from ._c_structured import structure_kind, structured_c
@@ -115,6 +120,10 @@ def _inline_step(spec) -> str:
         return f"/* The law's structure offers no radial return: every contact calls the c " \
                f"target. */\n{head}\n  {call}\n}}\n"
     tol = placeholders(lambda v: repr(float(v)))["@TOL@"]
+    axis = isotropic(spec)
+    call_axis = (" sig_tr[1] == 0.0 && sig_tr[0] > 0.0\n"
+                 "        ? fr_law::structured_return_axis(sig_tr, state_in + 6, params + 2, kt, kn,"
+                 " sig, q1, &dlam)\n        :") if axis else ""
     return f"""/* The structured return of the c target ({name}.c), printed static inline for the pair
    style's contact loop (names kept inside namespace fr_law, macros undefined after it). */
 namespace fr_law {{
@@ -122,6 +131,7 @@ namespace fr_law {{
 enum {{ ELASTIC = {ELASTIC}, PLASTIC = {PLASTIC} }};
 {c_helpers(name)}
 {structured_c(spec, inline=True)}
+{structured_c(spec, axis=True) if axis else ""}
 #undef GENERAL
 #undef TOL
 }}    // namespace fr_law
@@ -129,19 +139,19 @@ enum {{ ELASTIC = {ELASTIC}, PLASTIC = {PLASTIC} }};
 /* step_once of {name}.c for the closed contacts the structured return answers; the others
    (open: N_trial <= 0; left to the general return) call {name}_update. */
 {head}
-  const double kt = params[0], kn = params[1];
+  const double kt = params[0], kn = params[1], ikt = 1.0 / kt, ikn = 1.0 / kn;
   const double et[3] = {{state_in[0] + increment[0], state_in[1] + increment[1],
                         state_in[2] + increment[2]}};
   const double sig_tr[3] = {{kt * et[0], kt * et[1], -kn * et[2]}};
   if (sig_tr[2] > 0.0) {{
     double sig[3] = {{sig_tr[0], sig_tr[1], sig_tr[2]}}, q1[FR_NQ > 0 ? FR_NQ : 1], dlam = 0.0;
     for (int j = 0; j < FR_NQ; j++) q1[j] = state_in[6 + j];
-    const int kind = fr_law::structured_return(sig_tr, state_in + 6, params + 2, kt, kn, sig,
-                                               q1, &dlam, nullptr);
+    const int kind ={call_axis}
+        fr_law::structured_return(sig_tr, state_in + 6, params + 2, kt, kn, sig, q1, &dlam, nullptr);
     if (kind == fr_law::ELASTIC || kind == fr_law::PLASTIC) {{
       const int elastic = kind == fr_law::ELASTIC;
-      const double e[3] = {{elastic ? et[0] : sig[0] / kt, elastic ? et[1] : sig[1] / kt,
-                           elastic ? et[2] : -sig[2] / kn}};
+      const double e[3] = {{elastic ? et[0] : sig[0] * ikt, elastic ? et[1] : sig[1] * ikt,
+                           elastic ? et[2] : -sig[2] * ikn}};
       for (int a = 0; a < 3; a++) {{
         state_out[a] = e[a];
         state_out[3 + a] = state_in[3 + a] + (et[a] - e[a]);

@@ -49,6 +49,13 @@ the start), ``p0, ...`` (the parameters), ``kt, kn`` and, where said, ``lam`` (Î
     derivative of the radial return :math:`\sigma = \sigma^{tr} + \Delta\lambda(\sigma^{tr})
     v(\sigma^{tr})` with :math:`\phi = 0`, which is the consistent tangent because v does not
     turn along the return (the backward-Euler solution is that map in a neighbourhood).
+
+On the axis (``axis=True``, for a law that depends on T through :math:`|T|` only, whose
+trial is taken in the frame of its own tangential force: :math:`x_1 = 0`, :math:`x_0 > 0`)
+the radial pieces are the same expressions at :math:`x_1 = 0` with :math:`x_0` positive, so
+that :math:`|T| = \sqrt{x_0^2 + x_1^2}` is :math:`x_0` and Coulomb's
+:math:`y_0 = x_0\,\mu N/|T|` is :math:`\mu N`; ``along`` at :math:`y_1 = 0` (its
+:math:`y_0` keeps its sign); no ``tangent``.
 """
 
 from __future__ import annotations
@@ -108,7 +115,7 @@ def _cancel(expr):
     return short if sympy.count_ops(short) < sympy.count_ops(expr) else expr
 
 
-def _radial(form, x, q, f, g, rates, linear) -> list:
+def _radial(form, x, q, f, g, rates, linear, axis=False) -> list:
     import sympy
     nq = len(q)
     y, u, kt, kn, lam = _symbols(nq)
@@ -128,9 +135,16 @@ def _radial(form, x, q, f, g, rates, linear) -> list:
         pieces = [(f"v{i}", e) for i, e in enumerate(v)] + [(f"h{j}", e) for j, e in enumerate(h)]
         pieces += [("slope", slope), ("slip_rate", rate),
                    ("fnorm", sympy.sqrt(sum(d**2 for d in df)))]
-    first, second = _blocks(form, [[("f", f)], pieces], "a")
+    f_trial = f
+    if axis:
+        on = {x[1]: 0, x[0]: sympy.Symbol("x0", positive=True)}
+        f_trial = f.xreplace(on)
+        pieces = [(name, _cancel(e.xreplace(on))) for name, e in pieces]
+    first, second = _blocks(form, [[("f", f_trial)], pieces], "a")
     out = [("trial", first), ("radial", second)]
     E = (kt, kt, -kn)
+    if linear and axis:
+        return out
     if linear:
         # The derivative of the closed form y(x).
         tangent = [(f"tan{i}{j}", sympy.diff(ys[i], x[j]) * E[j]) for i in range(3)
@@ -142,7 +156,12 @@ def _radial(form, x, q, f, g, rates, linear) -> list:
     vs = sympy.symbols("v0:3", real=True)
     hs = sympy.symbols(f"h0:{nq}", real=True) if nq else ()
     dphi = sum(a * b for a, b in zip(fy + fqy, list(vs) + list(hs)))
-    out.append(("along", _blocks(form, [[("phi", f.xreplace(at_end)), ("dphi", dphi)]], "c")[0]))
+    phi = f.xreplace(at_end)
+    if axis:
+        phi, dphi = phi.xreplace({y[1]: 0}), dphi.xreplace({y[1]: 0})
+    out.append(("along", _blocks(form, [[("phi", phi), ("dphi", dphi)]], "c")[0]))
+    if axis:
+        return out
     b = sum(a * c for a, c in zip(fy + fqy, v + h))
     tangent = []
     for i in range(3):
@@ -188,22 +207,27 @@ def _affine(form, x, q, f, g, rates) -> list:
 
 
 @functools.lru_cache(maxsize=256)
-def _step_programs(key, form) -> tuple:
+def _step_programs(key, form, axis) -> tuple:
     from .._returnspec import RETURN_AFFINE, RETURN_RADIAL
     from ._structure import return_structure
     x, q, f, g, rates = _renamed(form)
     s = return_structure(form)
     if s.kind == RETURN_RADIAL:
-        return tuple(_radial(form, x, q, f, g, rates, s.linear))
+        return tuple(_radial(form, x, q, f, g, rates, s.linear, axis))
+    if axis:
+        return ()
     if s.kind == RETURN_AFFINE and len(q) <= MAX_REDUCED - 1:
         return tuple(_affine(form, x, q, f, g, rates))
     return (("trial", _blocks(form, [[("f", f)]], "a")[0]),)
 
 
-def step_programs(form) -> tuple:
+def step_programs(form, axis: bool = False) -> tuple:
     """The pieces of a law's step (``(name, Program)`` pairs, in print order, by the
     structure of its return, :func:`~frictionrules.codegen.return_structure`): ``trial``
     always; ``radial``, ``along`` (where Ï† is not linear) and ``tangent`` for a radial return;
     ``scales``, ``reduced``, ``solve`` and ``sensitivity`` for an affine flow with at most
-    ``MAX_REDUCED - 1`` internal variables (cached per structure)."""
-    return _step_programs(form.structure, form)
+    ``MAX_REDUCED - 1`` internal variables (cached per structure). With ``axis``, the radial
+    return's pieces on the axis :math:`x_1 = 0`, :math:`x_0 > 0` (none where the return is
+    not radial), for a law that depends on T through :math:`|T|` only: the caller checks
+    that."""
+    return _step_programs(form.structure, form, bool(axis))
