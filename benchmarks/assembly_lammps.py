@@ -214,7 +214,7 @@ def _write(args, rows, notes, per, keys, write_table):
             "(exported: the law's generated return map with our contact kinematics; "
             "gran/hooke/history: LAMMPS's own spring-Coulomb). "
             "Tolerances of assembly_yade.py (✓ within, ✗ outside). "
-            f"Load average at the end: {os.getloadavg()[0]:.1f} (2 cores, shared). "
+            f"Load average at the end: {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores. "
             + " ".join(sorted(set(notes))))
     name = "assembly_lammps" + ("" if args.pair == "exported" else "_builtin")
     write_table(name, f"The same triaxial test in our engine and in LAMMPS ({args.pair})", head,
@@ -364,8 +364,8 @@ def cost_table(args) -> None:
                 f"consolidated frictionless to p = {PRESSURE:g} by LAMMPS, tiled {s['tiles']}; "
                 "ours: the shear stage's steps over its wall time (after a short consolidation "
                 "with the laws); LAMMPS: the shear run's loop time over its steps (log.lammps). "
-                f"Load average at the end: {os.getloadavg()[0]:.1f} (2 cores shared with other "
-                "jobs: under load; the rows were not measured at the same load).")
+                f"Load average at the end: {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores "
+                "(the rows were measured one after the other, each at the load of its moment).")
 
 
 def _ours_ms(s: dict, threads: int, strain: float) -> float:
@@ -442,8 +442,9 @@ def scale_table(args) -> None:
                 f"consolidated by LAMMPS, tiled {s['tiles']}; a short shear (consolidation='stress' "
                 "first: a short settle with the laws). ms/step: the shear loop's time over its "
                 "steps; memory: LAMMPS's 'Per MPI rank memory allocation' (log.lammps). "
-                f"Load average at the end: {os.getloadavg()[0]:.1f} (2 cores shared by other "
-                "jobs: under load, and 1- and 2-rank runs did not see the same load).")
+                f"Load average at the end: {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores "
+                "(1- and 2-rank runs were measured one after the other, each at the load of its "
+                "moment).")
 
 
 def figure(path: str, strain: float) -> None:
