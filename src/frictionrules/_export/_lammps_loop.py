@@ -121,17 +121,20 @@ void FR_CLASS::eval(const double *Lr, int *carrying)
               for (int c = 0; c < 3; c++) e[c] *= scale;
             }
           } else {
-            const double *n0 = h + H.n0;
+            // the products with the branch d start before the normal n = d inv is known
+            // (inv = sg/|d|): n.u = (d.u) inv, 1/(1 + n0.n) = |d|/(|d| + sg n0.d)
+            const double *n0 = h + H.n0, *ue = h + H_ET;
+            const double n0d = n0[0] * d0 + n0[1] * d1 + n0[2] * d2;
+            const double ud = ue[0] * d0 + ue[1] * d1 + ue[2] * d2;
+            const double wd = (omega[i][0] + omega[j][0]) * d0 + (omega[i][1] + omega[j][1]) * d1
+                              + (omega[i][2] + omega[j][2]) * d2;
             const double m[3] = {n0[0] + n[0], n0[1] + n[1], n0[2] + n[2]};
-            const double c = 1.0 + n0[0] * n[0] + n0[1] * n[1] + n0[2] * n[2];
+            const double k = dist / (dist + sg * n0d);
             // the twist: an exact rotation by 2 atan(s), s = tan(theta/2) to O(theta^5)
-            double s = 0.25 * dt * ((omega[i][0] + omega[j][0]) * n[0]
-                                    + (omega[i][1] + omega[j][1]) * n[1]
-                                    + (omega[i][2] + omega[j][2]) * n[2]);
+            double s = 0.25 * dt * wd * inv;
             s += s * s * s * (1.0 / 3.0);
-            const double ss = 1.0 + s * s, r = 1.0 / (c * ss);    // one division for both
-            const double s2 = c * r;
-            fr_turn(h + H_ET, m, ss * r, n, (1.0 - s * s) * s2, 2.0 * s * s2, e);
+            const double is = 1.0 / (1.0 + s * s);
+            fr_turn(ue, m, ud * inv * k, n, (1.0 - s * s) * is, 2.0 * s * is, e);
           }
           for (int q = 0; q < FR_NQ; q++) state[6 + q] = h[H.q + q];
 #if FR_NORMAL_SLIP
@@ -150,14 +153,24 @@ void FR_CLASS::eval(const double *Lr, int *carrying)
             Ll[2] = sg * L[2] * d2;
           }
           const double u[3] = FR_RELATIVE_VELOCITY;
-          for (int c = 0; c < 3; c++) e[c] += dt * u[c];
+          if (!PROJECT && FR_ISOTROPIC) {
+            // the turned history lies in the contact plane already: only the increment's
+            // normal part is taken off (beside the turn, not after it)
+            const double un = u[0] * n[0] + u[1] * n[1] + u[2] * n[2];
+            for (int c = 0; c < 3; c++) e[c] += dt * (u[c] - un * n[c]);
+          } else {
+            for (int c = 0; c < 3; c++) e[c] += dt * u[c];
+          }
         }
         double t1[3], t2[3];
 #if FR_ISOTROPIC
         // the law depends on the tangential force through |T| only: t1 along e (the law sees
-        // (|e|, 0)), the frame of the reference axis where e = 0
-        const double en = e[0] * n[0] + e[1] * n[1] + e[2] * n[2];
-        for (int c = 0; c < 3; c++) e[c] -= en * n[c];
+        // (|e|, 0)), the frame of the reference axis where e = 0; the stored vector projected
+        // on the contact plane (history project|rescale, and a step's increment)
+        if (PROJECT) {
+          const double en = e[0] * n[0] + e[1] * n[1] + e[2] * n[2];
+          for (int c = 0; c < 3; c++) e[c] -= en * n[c];
+        }
         const double es = sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
         if (es > 0.0) {
           const double ei = 1.0 / es;

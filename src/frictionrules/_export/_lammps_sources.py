@@ -178,11 +178,10 @@ static inline void fr_frame(double nx, double ny, double nz, const double *axis,
 }
 
 /* The vector u of the old contact plane turned by the rotation taking n0 to n (m = n0 + n,
-   k = 1/(1 + n0.n)), then about n by the angle of (cos, sin) = (ct, st). */
-static inline void fr_turn(const double *u, const double *m, double k, const double *n,
+   c = (n.u)/(1 + n0.n)), then about n by the angle of (cos, sin) = (ct, st). */
+static inline void fr_turn(const double *u, const double *m, double c, const double *n,
                            double ct, double st, double *out)
 {
-  const double c = (n[0] * u[0] + n[1] * u[1] + n[2] * u[2]) * k;
   const double vx = u[0] - c * m[0], vy = u[1] - c * m[1], vz = u[2] - c * m[2];
   const double wx = n[1] * vz - n[2] * vy, wy = n[2] * vx - n[0] * vz, wz = n[0] * vy - n[1] * vx;
   out[0] = vx * ct + wx * st;
