@@ -318,7 +318,7 @@ def lammps_readme(target, spec, written) -> str:
         "(its kinematics, its 3 history values) in about its time (1.0–1.1 ×, one rank, "
         "frictionrules' `benchmarks/lammps_pair.py`); the defaults do more (the history turned "
         "and twisted with the contact, the dissipation kept for `compute pair/local`), about "
-        "1.4–1.5 × its time.",
+        "1.3 × its time.",
         "- `atom_style sphere`, `comm_modify vel yes` (ghost atoms carry velocities), "
         "`fix nve/sphere` (or another integrator of spheres with rotation).",
         "- `newton on` (LAMMPS's default) and `newton off` both work: with `newton off` a pair "
