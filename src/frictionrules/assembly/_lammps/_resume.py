@@ -27,7 +27,7 @@ from .._results import TriaxialResult
 from ._runner import (DATA, OPTIONS, RESUME, LammpsFiles, _records, _shear_done,
                       check_lammps_options, read_lammps_triaxial, run_lammps,
                       write_lammps_triaxial)
-from ._script import POSITIONS, RECORD_COLUMNS, RECORDS, RESTART_PREFIX, STAGES
+from ._script import POSITIONS, RECORD_COLUMNS, RECORDS, RESTART_PREFIX, SHEAR_DONE, STAGES
 
 __all__ = ["resume_lammps_triaxial", "lammps_triaxial", "restart_files", "run_key"]
 
@@ -82,7 +82,7 @@ def resume_lammps_triaxial(assembly, folder, *, restart=None, ranks: int = 1, pr
     _truncate(folder, step)
     if step >= opts["steps"]:    # stopped after the last segment's file: nothing left to run
         with open(folder / STAGES, "a") as f:
-            f.write(f"stage shear done at step {step}\n")
+            f.write(f"stage {SHEAR_DONE} at step {step}\n")
         return read_lammps_triaxial(assembly, folder, ranks=ranks)
     files = LammpsFiles(folder, folder / RESUME, folder / DATA, opts["steps"],
                         opts["record_steps"], opts["pair_style"])
@@ -120,7 +120,7 @@ def _truncate(folder: Path, step: int) -> None:
     stages = folder / STAGES
     if stages.exists():
         stages.write_text("".join(line for line in stages.read_text().splitlines(keepends=True)
-                                  if "shear done" not in line))
+                                  if SHEAR_DONE not in line))
 
 
 def run_key(assembly, kind: str, options: dict) -> str:

@@ -22,7 +22,7 @@ from ...errors import FrictionRulesError, check_scalar
 from .._consolidation import PRELOAD, check_preload, consolidation_of
 from .._results import SampleState, TriaxialResult, snapshot
 from ._pair import pair_lines
-from ._script import POSITIONS, RECORD_COLUMNS, RECORDS, RESTART_PREFIX, STAGES
+from ._script import POSITIONS, RECORD_COLUMNS, RECORDS, RESTART_PREFIX, SHEAR_DONE, STAGES
 
 __all__ = ["LammpsFiles", "write_lammps_triaxial", "read_lammps_triaxial", "run_lammps",
            "SNAPSHOT_GRAINS", "check_lammps_options", "restart_records"]
@@ -317,7 +317,7 @@ def _version(folder: Path) -> str:
 def _shear_done(folder: Path) -> bool:
     """The stages' file says the shear finished (the script's last line)."""
     stages = folder / STAGES
-    return stages.exists() and "shear done" in stages.read_text()
+    return stages.exists() and SHEAR_DONE in stages.read_text()
 
 
 def _ended(folder: Path, records: int) -> str:

@@ -54,6 +54,8 @@ RECORD_COLUMNS = ("step", "time", "lx", "ly", "lz", "pxx", "pyy", "pzz", "pxy", 
                   "contacts2", "n0", "n1", "sliding", "dissipation", "unbalanced", "kinetic")
 #: The stages' ends, one line each.
 STAGES = "stages.txt"
+#: The line's words in ``STAGES`` that say the shear ran to its end.
+SHEAR_DONE = "shear done"
 #: The dump of the grains' unwrapped centres at the records.
 POSITIONS = "positions.dump"
 #: The restart files of the shear's segments (``shear.<step>.restart``).
@@ -198,7 +200,7 @@ def _shear(*, law_outputs, kind, p, gain, rate, record_steps, total, restart_ste
                   f"*({total}-step):%.0f)",
                   f"write_restart {RESTART_PREFIX}*.restart",
                   f'if "$(step) < {total}" then "jump SELF segment"']
-    lines.append(f'print "stage shear done at step $(step)" append {STAGES} screen no')
+    lines.append(f'print "stage {SHEAR_DONE} at step $(step)" append {STAGES} screen no')
     return lines
 
 
