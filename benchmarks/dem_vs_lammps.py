@@ -227,11 +227,12 @@ def main() -> None:
     args = parser.parse_args()
     if args.child:
         path = Path(args.sample)
-        threads = int(args.threads)
         if args.child == "prepare":
             _prepare(int(args.tiles), path)
             print("{}")
-        elif args.child == "lammps":
+            return
+        threads = int(args.threads)
+        if args.child == "lammps":
             print(json.dumps(_lammps(path, args.steps, threads)))
         else:
             if threads > 1:
@@ -279,9 +280,9 @@ def main() -> None:
                  "÷ LAMMPS (wall)", "peak memory MB"], rows,
                 notes=f"{args.rounds} rounds interleaved per sample and number of cores, "
                       f"{WARMUP} steps of warm-up before the timed ones; cores: the engine's "
-                      "threads (OpenMP layer) or LAMMPS's MPI ranks. Wall clock on a shared "
-                      f"2-core machine (load {os.getloadavg()[0]:.1f} at the end): other "
-                      "processes held the cores, so CPU time is the steadier figure. Peak "
+                      "threads (OpenMP layer) or LAMMPS's MPI ranks. Wall clock on "
+                      f"{os.cpu_count()} cores (load {os.getloadavg()[0]:.1f} at the end; where "
+                      "other processes hold the cores, CPU time is the steadier figure). Peak "
                       "memory: the engine's whole process (Python, NumPy, Numba included).")
 
 
