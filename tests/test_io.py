@@ -66,7 +66,11 @@ def global_problem(seed=1):
                          title="global")
 
 
-def test_global_condensation_W_HtMinvH(tmp_path):
+@pytest.mark.parametrize("dense_max", [400, 0], ids=["dense", "sparse"])
+def test_global_condensation_W_HtMinvH(tmp_path, monkeypatch, dense_max):
+    """W = H^T M^-1 H, q = H^T M^-1 f + w, by the dense solve of a small M and by SuperLU."""
+    import frictionrules.io as fio
+    monkeypatch.setattr(fio, "DENSE_CONDENSE_MAX", dense_max)
     g = global_problem()
     path = write_fclib_global(tmp_path / "g.hdf5", g)
     p = read_fclib(path)
@@ -171,3 +175,16 @@ def test_stored_siconos_solution_of_spheres_pile():
         r, u = h5["solution/r"][()], h5["solution/u"][()]
     assert np.linalg.norm(p.W @ r + p.q - u) <= 1e-12 * np.linalg.norm(u)
     assert fc3d_error(p, r, u) == pytest.approx(6.4e-3, rel=0.01)
+
+
+@pytest.mark.parametrize("dense_max", [400, 0], ids=["dense", "sparse"])
+def test_singular_mass_matrix_is_refused_in_one_line(monkeypatch, dense_max):
+    import frictionrules.io as fio
+    monkeypatch.setattr(fio, "DENSE_CONDENSE_MAX", dense_max)
+    g = global_problem()
+    M = g.M.toarray()
+    M[:, 0] = 0.0
+    M[0, :] = 0.0
+    bad = GlobalProblem(sp.csc_matrix(M), g.H, g.f, g.w, g.mu)
+    with pytest.raises(FrictionRulesError, match="fclib_global/M is singular"):
+        bad.condense()
