@@ -182,18 +182,6 @@ def mean_stats(runs, side: str) -> Stats:
 
 def comparison_table(results, mus, protocol, notes, suffix=""):
     rows = []
-
-    def row(mu, name, digits, a, b, n):
-        """One statistic: each code's mean and interval, whether they overlap, the paired
-        difference's interval and whether it holds 0."""
-        ca, ta = _ci(a, digits)
-        cb, tb = _ci(b, digits)
-        cd, td = _ci([x - y for x, y in zip(a, b)], digits)
-        overlap = "yes" if ca.n > 1 and ca.low <= cb.high and cb.low <= ca.high else (
-            "no" if ca.n > 1 else "–")
-        zero = "–" if cd.n < 2 else ("no" if cd.low > 0 or cd.high < 0 else "yes")
-        return [mu, name, n, ta, tb, overlap, td, zero, _f(ca.std, digits), _f(cb.std, digits)]
-
     for mu in mus:
         runs = [v for (s, m, law), v in results.items() if m == mu and law == "coulomb"]
         for (seed, m, law), v in results.items():
@@ -275,6 +263,18 @@ def _ci(values, digits):
     return ci, f"{ci.mean:.{digits}f} ± {ci.half_width:.{digits}f}"
 
 
+def _ensemble_row(mu, name, digits, a, b, n):
+    """One statistic: each code's mean and interval, whether they overlap, the paired
+    difference's interval and whether it holds 0."""
+    ca, ta = _ci(a, digits)
+    cb, tb = _ci(b, digits)
+    cd, td = _ci([x - y for x, y in zip(a, b)], digits)
+    overlap = "yes" if ca.n > 1 and ca.low <= cb.high and cb.low <= ca.high else (
+        "no" if ca.n > 1 else "–")
+    zero = "–" if cd.n < 2 else ("no" if cd.low > 0 or cd.high < 0 else "yes")
+    return [mu, name, n, ta, tb, overlap, td, zero, _f(ca.std, digits), _f(cb.std, digits)]
+
+
 def ensemble_table(results, mus, notes, suffix=""):
     """Means over the samples with their 95 % confidence intervals (Student's t), ours beside
     YADE, and the mean of the paired differences (the same sample in both codes) with its
@@ -286,7 +286,7 @@ def ensemble_table(results, mus, notes, suffix=""):
         for key, name, digits in ENSEMBLE_KEYS:
             a = [getattr(v["ours_stats"], key) for v in runs]
             b = [getattr(v["yade_stats"], key) for v in runs]
-            rows.append(row(mu, name, digits, a, b, len(runs)))
+            rows.append(_ensemble_row(mu, name, digits, a, b, len(runs)))
         final = min(float(v[side].axial_strain[-1]) for v in runs for side in ("ours", "yade")) \
             if runs else 0.0
         extra = [("Z at the start of the shear", 2, lambda r: float(r.coordination[0]))]
@@ -296,7 +296,7 @@ def ensemble_table(results, mus, notes, suffix=""):
         for name, digits, value in extra:
             a = [value(v["ours"]) for v in runs]
             b = [value(v["yade"]) for v in runs]
-            rows.append(row(mu, name, digits, a, b, len(runs)))
+            rows.append(_ensemble_row(mu, name, digits, a, b, len(runs)))
     write_table("assembly_yade_ensemble" + suffix,
                 "Ensembles: the DEM engine beside YADE on the same samples (means, 95 % intervals)",
                 ["μ", "statistic", "samples", "ours: mean ± 95 %", "YADE: mean ± 95 %",

@@ -13,7 +13,6 @@ def snippet(target, spec, written) -> str:
     :class:`~._table.ExportTarget`."""
     from .._version import __version__
     name, up = spec.name, spec.name.upper()
-    nprops, nstatv = len(written.props), len(written.statev_entries)
     files = target.files(name)
     if target.name == "c":
         params = ", ".join(repr(float(v)) for v in written.props)

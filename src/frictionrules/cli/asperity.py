@@ -346,7 +346,7 @@ def _report(conf, law, surface, curve, mu_theta, locked, Q, merged) -> None:
 def _write(files, args, conf, law, surface, curve, theta, mu_theta, locked, Q) -> list:
     import numpy as np
 
-    from .._output import write_figure, write_table
+    from .._output import write_table
     facets = _count(law)
     params = {k: conf[k] for k in ("mu", "local", "Q", "n", "alpha1", "alpha2", "deg", "dx", "dy",
                                    "file", "detrend") if k in conf}

@@ -253,7 +253,7 @@ def solve_law(problem, method, tol, max_iter, r0, opts, callback, time_limit, t0
         return False
 
     def newton(steps):
-        nonlocal done, r
+        nonlocal r
 
         def record(rr, err):
             nonlocal done
