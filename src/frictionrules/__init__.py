@@ -31,10 +31,6 @@ from .laws import (
     law_to_toml,
     read_law,
 )
-# asperity mechanisms, real surfaces and calibration (§2)
-from .asperities import FacetSet, TwoFlankAsperity, fit, from_heightmap, from_profile
-from .asperities import (FitResult, FittedParameter, ScaleStudy, SurfaceFriction,
-                         from_topography, read_surface, scale_study)
 # multi-contact problems and FCLIB files; frictionrules.io is the FCLIB module
 from .io import read_fclib, write_fclib
 from .multicontact import (ADMMOptions, FrictionContactProblem, IterationInfo, NewtonOptions,
@@ -44,26 +40,6 @@ from .batch import SolveRecord, solve_many
 from .parallel import SweepPoint, sweep
 # elastic-plastic contact with hardening and softening (§4)
 from .contact import ContactModel, ContactState, DriveResult, UpdateResult, drive
-# export to finite-element codes (Abaqus user subroutines, C)
-from ._export import EXPORT_TARGETS, ExportResult, export
-# configuration softening: grains sliding over layers (§3)
-from .configuration import (
-    CylinderOnLayer,
-    ForceControlResult,
-    GrainContact,
-    GrainState,
-    LimitPoint,
-    PathResult,
-    PeakForcePolar,
-    SphereOnLayer,
-)
-# grain assemblies: many grains, a law at every contact (§5, (4.12))
-from .assembly import (Assembly, ContactSnapshot, SampleState, TriaxialResult, load_cell, triaxial,
-                       write_vtk)
-from .assembly import (ConfidenceInterval, EnsembleResult, EnsembleRun, EnsembleSummary, MeanCurve,
-                       ensemble)
-from .assembly import (LammpsFiles, read_lammps_triaxial, resume_lammps_triaxial,
-                       write_lammps_triaxial)
 
 __all__ = [
     "FrictionRulesError",
@@ -165,9 +141,39 @@ __all__ = [
 
 _SYMBOLS = ("T1", "T2", "N")
 
+#: The layers a call may not need, re-exported on first use (PEP 562): a ``solve`` or a
+#: ``drive`` does not import the asperities, the export, the configurations or the assemblies.
+_LAZY = {
+    # asperity mechanisms, real surfaces and calibration (§2)
+    "asperities": ("FacetSet", "TwoFlankAsperity", "fit", "from_heightmap", "from_profile",
+                   "FitResult", "FittedParameter", "ScaleStudy", "SurfaceFriction",
+                   "from_topography", "read_surface", "scale_study"),
+    # export to finite-element codes (Abaqus user subroutines, C, LAMMPS)
+    "_export": ("EXPORT_TARGETS", "ExportResult", "export"),
+    # configuration softening: grains sliding over layers (§3)
+    "configuration": ("CylinderOnLayer", "ForceControlResult", "GrainContact", "GrainState",
+                      "LimitPoint", "PathResult", "PeakForcePolar", "SphereOnLayer"),
+    # grain assemblies: many grains, a law at every contact (§5, (4.12))
+    "assembly": ("Assembly", "ContactSnapshot", "SampleState", "TriaxialResult", "load_cell",
+                 "triaxial", "write_vtk", "ConfidenceInterval", "EnsembleResult", "EnsembleRun",
+                 "EnsembleSummary", "MeanCurve", "ensemble", "LammpsFiles",
+                 "read_lammps_triaxial", "resume_lammps_triaxial", "write_lammps_triaxial"),
+}
+_LAZY_NAMES = {name: module for module, names in _LAZY.items() for name in names}
+
 
 def __getattr__(name):
     if name in _SYMBOLS:
         from .laws import symbols
         return getattr(symbols, name)
+    module = _LAZY_NAMES.get(name)
+    if module is not None:
+        import importlib
+        value = getattr(importlib.import_module(f".{module}", __name__), name)
+        globals()[name] = value
+        return value
     raise AttributeError(f"module 'frictionrules' has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))
