@@ -104,8 +104,8 @@ def main() -> None:
                  "2 threads: wall µs/step", "speed-up", "peak memory MB"], rows,
                 notes=f"slope of log(wall per step, 1 thread) against log(contacts): {slope:.2f}. "
                       f"{args.steps} steps of axisymmetric shear (I = 4e-4) after 2000 steps of "
-                      "frictionless isotropic compression; the 400-sphere packing tiled k³ times. Wall times on a "
-                      f"shared 2-core machine (load {os.getloadavg()[0]:.1f} at the end).")
+                      "frictionless isotropic compression; the 400-sphere packing tiled k³ times. Wall times on "
+                      f"{os.cpu_count()} cores (load {os.getloadavg()[0]:.1f} at the end).")
     print(f"slope {slope:.2f}")
     if args.memory_tiles:
         big = _measure(args.memory_tiles, 20, 1)

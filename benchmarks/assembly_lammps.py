@@ -193,17 +193,11 @@ def statistics_table(args) -> None:
 
 
 def _write(args, rows, notes, per, keys, write_table):
-    from _dem_compare import within
     out = list(rows)
     for (law, mu), pairs in per.items():
         if not all(sl is not None for _, sl in pairs):
             continue
-        row = [law, mu, f"**mean of {len(pairs)}**"]
-        for k, d in keys:
-            a = float(np.mean([getattr(so, k) for so, _ in pairs]))
-            b = float(np.mean([getattr(sl, k) for _, sl in pairs]))
-            row += [_f(a, d), _f(b, d), f"{_f(a - b, d)} {within(a - b, k, True)}"]
-        out.append(row + ["", ""])
+        out.append(_mean_row(law, mu, pairs, keys, sign=1.0))
     head = ["law", "μ", "seed"]
     for name in ("peak φ (°)", "end φ (°)", "ε_v", "Z"):
         head += [f"ours: {name}", f"LAMMPS: {name}", "ours − LAMMPS"]
@@ -267,16 +261,23 @@ def ranks_table(args) -> None:
     _write_ranks(args, ra, rb, rows, per, notes, write_table)
 
 
-def _write_ranks(args, ra, rb, rows, per, notes, write_table):
+def _mean_row(law, mu, pairs, keys, sign):
+    """The bold row of the means over ``pairs`` (statistics of the two sides), each key's two
+    means and ``sign`` × (first − second) judged against the tolerances of the means."""
     from _dem_compare import within
+    row = [law, mu, f"**mean of {len(pairs)}**"]
+    for k, d in keys:
+        a = float(np.mean([getattr(first, k) for first, _ in pairs]))
+        b = float(np.mean([getattr(second, k) for _, second in pairs]))
+        diff = sign * (a - b)
+        row += [_f(a, d), _f(b, d), f"{_f(diff, d)} {within(diff, k, True)}"]
+    return row + ["", ""]
+
+
+def _write_ranks(args, ra, rb, rows, per, notes, write_table):
     out = list(rows)
     for (law, mu), pairs in per.items():
-        row = [law, mu, f"**mean of {len(pairs)}**"]
-        for k, d in KEYS:
-            a = float(np.mean([getattr(sa, k) for sa, _ in pairs]))
-            b = float(np.mean([getattr(sb, k) for _, sb in pairs]))
-            row += [_f(a, d), _f(b, d), f"{_f(b - a, d)} {within(b - a, k, True)}"]
-        out.append(row + ["", ""])
+        out.append(_mean_row(law, mu, pairs, KEYS, sign=-1.0))
     head = ["law", "μ", "seed"]
     for name in ("peak φ (°)", "end φ (°)", "ε_v", "Z"):
         head += [f"{ra} rank: {name}", f"{rb} ranks: {name}", f"{rb} − {ra}"]
@@ -288,7 +289,7 @@ def _write_ranks(args, ra, rb, rows, per, notes, write_table):
             "(peak on a ±0.25 % running mean, the 20–25 % angle and Z, ε_v at the end), judged "
             "by its tolerances (each run: 2°, 3°, 0.012, 0.2; means: 1.5°, 2°, 0.008, 0.15; "
             "✓ within, ✗ outside). Wall: LAMMPS's own total (log.lammps), run one at a time "
-            f"under load (load average at the end: {os.getloadavg()[0]:.1f}, 2 cores shared). "
+            f"(load average at the end: {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores). "
             + " ".join(sorted(set(notes))))
     write_table("assembly_lammps_ranks", f"LAMMPS on {ra} and {rb} ranks: the same triaxial test",
                 head, out, text)

@@ -523,7 +523,7 @@ def main(argv=None):
                      ("" if with_ours else " Ours not run: no DEM engine in this checkout."), tag)
     times_table(results, f"{threads}, after a warm-up that compiled each law's kernels "
                 f"({', '.join(f'{k} {v:.1f} s' for k, v in warm.items()) or 'none'}); wall times "
-                "on a shared 2-core machine (the load is the 1-minute load average when YADE ran; "
+                f"on {os.cpu_count()} cores (the load is the 1-minute load average when YADE ran; "
                 "'kept': YADE's output of an earlier run of the same job). CPU: our process time; "
                 "YADE's subprocess (RUSAGE_CHILDREN), start-up included.", tag)
     if with_ours:

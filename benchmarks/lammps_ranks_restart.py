@@ -78,7 +78,7 @@ def main(argv=None) -> None:
                 f"The triaxial script's settings, μ = 0.3, records every 0.1 % of axial strain; "
                 f"resumed from {first.name} on 1 rank: bit for bit the first run: "
                 f"{bool(np.array_equal(same, ref))}. Load average at the end: "
-                f"{os.getloadavg()[0]:.1f} (2 cores, shared).")
+                f"{os.getloadavg()[0]:.1f} on {os.cpu_count()} cores.")
 
 
 if __name__ == "__main__":

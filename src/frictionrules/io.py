@@ -35,7 +35,7 @@ __all__ = ["GlobalProblem", "read_fclib", "read_fclib_global", "write_fclib", "w
 
 
 #: Largest number of rows of M that :meth:`GlobalProblem.condense` solves dense (a dense LU of
-#: this size takes about a millisecond).
+#: this size takes a few milliseconds).
 DENSE_CONDENSE_MAX = 400
 
 
@@ -67,8 +67,8 @@ class GlobalProblem:
         ``M`` is factorized once (sparse LU, SuperLU); ``M^{-1} H`` is solved column block by
         column block and the product is kept sparse. Where ``M`` has at most
         ``DENSE_CONDENSE_MAX`` rows, it is solved dense instead (LAPACK's LU through NumPy: the
-        same W to round-off, without importing SciPy's sparse solvers, a tenth of a second of a
-        small file's whole call).
+        same W to round-off, without importing SciPy's sparse solvers: about 40 ms of a small
+        file's whole call).
 
         Returns
         -------
@@ -77,31 +77,31 @@ class GlobalProblem:
         sp = require("scipy.sparse", extra="solvers")
 
         from .multicontact.problem import FrictionContactProblem
-        if self.M.shape[0] <= DENSE_CONDENSE_MAX:
-            H = sp.csc_matrix(self.H).toarray()
-            rhs = np.column_stack([H, np.asarray(self.f, dtype=float)])
-            try:
-                X = np.linalg.solve(sp.csc_matrix(self.M).toarray(), rhs)
-            except np.linalg.LinAlgError as exc:
-                raise FrictionRulesError(
-                    f"fclib_global/M is singular: cannot condense ({exc})") from exc
-            W = sp.csr_matrix(H.T @ X[:, :-1])
-            W.eliminate_zeros()
-            return FrictionContactProblem(W, H.T @ X[:, -1] + self.w, self.mu, title=self.title)
-        import scipy.sparse.linalg as spla
-        try:
-            lu = spla.splu(sp.csc_matrix(self.M))
-        except RuntimeError as exc:
-            raise FrictionRulesError(f"fclib_global/M is singular: cannot condense ({exc})") from exc
         H = sp.csc_matrix(self.H)
-        blocks = []
-        for start in range(0, H.shape[1], 256):  # M^-1 H by column blocks, kept sparse
-            X = lu.solve(H[:, start:start + 256].toarray())
-            blocks.append(sp.csc_matrix(np.where(np.abs(X) > 0.0, X, 0.0)))
-        MinvH = sp.hstack(blocks, format="csc") if blocks else sp.csc_matrix(H.shape)
+        f = np.asarray(self.f, dtype=float)
+        singular = "fclib_global/M is singular: cannot condense ({})"
+        if self.M.shape[0] <= DENSE_CONDENSE_MAX:
+            try:
+                X = np.linalg.solve(sp.csc_matrix(self.M).toarray(),
+                                    np.column_stack([H.toarray(), f]))
+            except np.linalg.LinAlgError as exc:
+                raise FrictionRulesError(singular.format(exc)) from exc
+            MinvH, Minvf = sp.csc_matrix(X[:, :-1]), X[:, -1]
+        else:
+            import scipy.sparse.linalg as spla
+            try:
+                lu = spla.splu(sp.csc_matrix(self.M))
+            except RuntimeError as exc:
+                raise FrictionRulesError(singular.format(exc)) from exc
+            blocks = []
+            for start in range(0, H.shape[1], 256):  # M^-1 H by column blocks, kept sparse
+                X = lu.solve(H[:, start:start + 256].toarray())
+                blocks.append(sp.csc_matrix(np.where(np.abs(X) > 0.0, X, 0.0)))
+            MinvH = sp.hstack(blocks, format="csc") if blocks else sp.csc_matrix(H.shape)
+            Minvf = lu.solve(f)
         W = sp.csr_matrix(H.T @ MinvH)
         W.eliminate_zeros()
-        q = H.T @ lu.solve(np.asarray(self.f, dtype=float)) + self.w
+        q = H.T @ Minvf + self.w
         return FrictionContactProblem(W, q, self.mu, title=self.title)
 
 
