@@ -13,6 +13,7 @@ from frictionrules import FrictionContactProblem
 from frictionrules.multicontact import _admm_steps as S
 from frictionrules.multicontact import _kernels as K
 from frictionrules.multicontact import _ordering as O
+from frictionrules.multicontact import _triangular as T
 from frictionrules.multicontact._admm import (
     _Anderson,
     _compiled_w,
@@ -164,23 +165,34 @@ def test_factor_with_the_contact_ordering_solves(nonsymmetric):
 
 
 @pytest.mark.parametrize("nonsymmetric", [0.0, 0.3])
-def test_refactorization_on_the_pattern_is_a_dense_solve(nonsymmetric):
+def test_refactorization_on_the_pattern_is_a_dense_solve(monkeypatch, nonsymmetric):
     """After a first SuperLU factorization of W + c I the frame keeps its pattern; W + c' I is
     then factorized on it (compiled, no pivoting): the solves are those of a dense solve with
     W + c' I, and the refilled factors at c are SuperLU's (the pattern's own check)."""
+    from frictionrules.multicontact import _admm as A
+    monkeypatch.setattr(A, "SYMMETRIC_MIN_ENTRIES", 0)
     nc = 200
     W = block_matrix(nc, 4, density=0.005, nonsymmetric=nonsymmetric)      # factors: 34 per unknown
     fr = _Frame(FrictionContactProblem(W, np.ones(3 * nc), np.full(nc, 0.5)))
     first = _Factor(fr, 0.1)
     pattern = fr.cache["admm_pattern"]
     assert pattern is not None
-    lp, li, up, ui, rows, cols, triples, bp, bi, bx = pattern
-    lx, ux, ud, ok = S.lu_refactor(bp, bi, bx, 0.1, lp, li, up, ui)
+    lp, li, up, ui, rows, cols, triples, bp, bi, bx, refactor = pattern
+    assert refactor is (T.symmetric_refactor if nonsymmetric == 0.0 else T.lu_refactor)
+    lx, ux, ud, ok = T.lu_refactor(bp, bi, bx, 0.1, lp, li, up, ui)
     assert ok
+    if nonsymmetric == 0.0:                         # the lower triangle alone: the same factors
+        sx, sux, sud, ok = T.symmetric_refactor(bp, bi, bx, 0.1, lp, li, up, ui)
+        assert ok
+        for a, b in ((sx, lx), (sux, ux), (sud, ud)):
+            np.testing.assert_allclose(a, b, rtol=1e-9, atol=1e-13 * np.abs(b).max())
+    else:                                           # B's pattern is symmetric, its values not
+        assert not np.allclose(T.symmetric_refactor(bp, bi, bx, 0.1, lp, li, up, ui)[1], ux)
     np.testing.assert_allclose(lx, first.arrays[2], rtol=1e-9, atol=1e-12 * np.abs(first.arrays[2]).max())
     np.testing.assert_allclose(ud, first.arrays[6], rtol=1e-9)
     again = _Factor(fr, 7.5)
-    assert again.arrays[0] is lp and again.arrays[3] is up         # the pattern itself
+    assert again.arrays[0] is lp                                    # the pattern itself
+    assert again.arrays[3].size == (0 if nonsymmetric == 0.0 else up.size)     # U = D L^T dropped
     b = np.random.default_rng(8).normal(size=3 * nc)
     ref = np.linalg.solve(fr.W.toarray() + 7.5 * np.eye(3 * nc), b)
     np.testing.assert_allclose(again.solve(b), ref, rtol=1e-10, atol=1e-12 * np.abs(ref).max())
@@ -191,8 +203,33 @@ def test_refactorization_reports_a_zero_pivot():
     lp, li = np.zeros(3, np.int64), np.zeros(0, np.int64)
     up, ui = np.zeros(3, np.int64), np.zeros(0, np.int64)
     bp, bi, bx = np.zeros(3, np.int64), np.zeros(0, np.int64), np.zeros(0)
-    assert not S.lu_refactor(bp, bi, bx, 0.0, lp, li, up, ui)[3]
-    assert S.lu_refactor(bp, bi, bx, 2.0, lp, li, up, ui)[3]
+    assert not T.lu_refactor(bp, bi, bx, 0.0, lp, li, up, ui)[3]
+    assert T.lu_refactor(bp, bi, bx, 2.0, lp, li, up, ui)[3]
+    assert not T.symmetric_refactor(bp, bi, bx, 0.0, lp, li, up, ui)[3]
+    assert T.symmetric_refactor(bp, bi, bx, 2.0, lp, li, up, ui)[3]
+
+
+def test_symmetric_refactorization_needs_u_as_l_transposed():
+    """:func:`symmetric_refactor` writes U's row k from L's column k: a U that holds an entry
+    whose transpose L lacks (or the other way) is refused, and the LU refactorization serves."""
+    def csr(rows):
+        return (np.cumsum([0] + [len(r) for r in rows]).astype(np.int64),
+                np.array([c for r in rows for c in r], np.int64))
+    B = np.array([[4.0, 1.0, 0.0], [1.0, 4.0, 1.0], [0.0, 1.0, 4.0]])
+    bp, bi = csr([[0, 1], [0, 1, 2], [1, 2]])
+    bx = B[B != 0]
+    lp, li = csr([[], [0], [1]])
+    up, ui = csr([[1], [2], []])
+    lx, ux, ud, ok = T.symmetric_refactor(bp, bi, bx, 0.5, lp, li, up, ui)
+    assert ok
+    L = np.eye(3) + sp.csr_matrix((lx, li, lp), shape=(3, 3)).toarray()
+    np.testing.assert_allclose(L @ np.diag(ud) @ L.T, B + 0.5 * np.eye(3), rtol=1e-14)
+    np.testing.assert_allclose(ux, [ud[0] * lx[0], ud[1] * lx[1]], rtol=1e-15)
+    up2, ui2 = csr([[1, 2], [2], []])               # U's row 0 holds column 2, L's row 2 not 0
+    assert T.lu_refactor(bp, bi, bx, 0.5, lp, li, up2, ui2)[3]
+    assert not T.symmetric_refactor(bp, bi, bx, 0.5, lp, li, up2, ui2)[3]
+    lp3, li3 = csr([[], [0], [0, 1]])               # L's row 2 holds column 0, U's row 0 not 2
+    assert not T.symmetric_refactor(bp, bi, bx, 0.5, lp3, li3, up, ui)[3]
 
 
 def test_refinement_only_where_it_pays():
@@ -334,12 +371,12 @@ def test_unsorted_rows_let_superlu_order():
 
 @pytest.mark.parametrize("nc, nonsymmetric", [(60, 0.0), (60, 0.3), (200, 0.0), (200, 0.3)])
 def test_compiled_triangular_solves_are_a_dense_solve(monkeypatch, nc, nonsymmetric):
-    """The factors as CSR arrays, solved in compiled code (:func:`lu_solve`): from LAPACK's
-    packed LU and its row interchanges (180 unknowns) and from SuperLU's factors of the
-    contacts' ordering (600), against NumPy's dense solve of W + cI (with the step of
+    """The factors as CSR arrays, solved in compiled code (:func:`lu_solve`): SuperLU's
+    factors of the contacts' ordering (180 and 600 unknowns), against NumPy's dense solve of W + cI (with the step of
     refinement where the factor's test asks for it). Every fill is let through."""
     from frictionrules.multicontact import _admm as A
     monkeypatch.setattr(A, "COMPILED_FILL_MAX", 3 * nc)
+    monkeypatch.setattr(A, "SYMMETRIC_MIN_ENTRIES", 0)
     W = block_matrix(nc, 6, density=0.02, nonsymmetric=nonsymmetric)
     fr = _Frame(FrictionContactProblem(W, np.ones(3 * nc), np.full(nc, 0.5)))
     c = 0.1
@@ -354,8 +391,49 @@ def test_compiled_triangular_solves_are_a_dense_solve(monkeypatch, nc, nonsymmet
     np.testing.assert_array_equal(again, x)
     triples = f.arrays[-1]
     assert np.all(triples == 3)                    # W of whole 3 x 3 blocks: every contact's rows
-    by_rows = S.lu_solve(*f.arrays[:-1], np.zeros_like(triples), b)
-    np.testing.assert_allclose(S.lu_solve(*f.arrays, b), by_rows, rtol=1e-12, atol=1e-14 * np.abs(by_rows).max())
+    by_rows = T.lu_solve(*f.arrays[:-1], np.zeros_like(triples), b)
+    np.testing.assert_allclose(T.lu_solve(*f.arrays, b), by_rows, rtol=1e-12, atol=1e-14 * np.abs(by_rows).max())
+    # SuperLU's factors of a symmetric W + cI keep L alone (U = D L^T), those of a
+    # nonsymmetric W keep U
+    assert (f.arrays[3].size == 0) == (nonsymmetric == 0.0)
+
+
+@pytest.mark.parametrize("nc", [60, 200])
+def test_symmetric_form_is_the_lu_solve_with_u(monkeypatch, nc):
+    """U = D L^T (:func:`symmetric_form`) for SuperLU's factors of a symmetric W + cI; the
+    solve from L alone (read again column by column, by triples or entry by entry) is the
+    solve with U to round-off, and a dense solve's. A U that is not D L^T (one entry moved by
+    1e-9 of the largest, or one entry missing) is kept."""
+    from frictionrules.multicontact import _admm as A
+    keep = A._symmetric
+    monkeypatch.setattr(A, "_symmetric", lambda arrays: arrays)
+    monkeypatch.setattr(A, "COMPILED_FILL_MAX", 3 * nc)
+    W = block_matrix(nc, 6, density=0.02)
+    fr = _Frame(FrictionContactProblem(W, np.ones(3 * nc), np.full(nc, 0.5)))
+    full = _Factor(fr, 0.1).arrays
+    lp, li, lx, up, ui, ux, ud, rows, cols, triples = full
+    assert up.size == 3 * nc + 1 and np.array_equal(rows, cols) and np.all(triples == 3)
+    assert T.symmetric_form(lp, li, lx, up, ui, ux, ud)
+    monkeypatch.setattr(A, "SYMMETRIC_MIN_ENTRIES", lx.size + 1)
+    assert keep(full) is full                       # below SYMMETRIC_MIN_ENTRIES: U kept
+    monkeypatch.setattr(A, "SYMMETRIC_MIN_ENTRIES", lx.size)
+    half = keep(full)
+    assert half[3].size == half[4].size == half[5].size == 0 and half[2] is lx
+    b = np.random.default_rng(5).normal(size=3 * nc)
+    with_u = T.lu_solve(*full, b)
+    scale = np.abs(with_u).max()
+    np.testing.assert_allclose(T.lu_solve(*half, b), with_u, rtol=1e-12, atol=1e-14 * scale)
+    by_entries = T.lu_solve(*half[:-1], np.zeros_like(triples), b)
+    np.testing.assert_allclose(by_entries, with_u, rtol=1e-12, atol=1e-14 * scale)
+    ref = np.linalg.solve(fr.W.toarray() + 0.1 * np.eye(3 * nc), b)
+    np.testing.assert_allclose(with_u, ref, rtol=1e-9, atol=1e-12 * scale)
+    moved = ux.copy()
+    moved[ux.size // 2] += 1e-9 * np.abs(ux).max()
+    assert not T.symmetric_form(lp, li, lx, up, ui, moved, ud)
+    assert keep((lp, li, lx, up, ui, moved, ud, rows, cols, triples))[3] is up
+    short = up.copy()
+    short[-2:] -= 1                                 # U's last stored entry left out
+    assert not T.symmetric_form(lp, li, lx, short, ui[:-1], ux[:-1], ud)
 
 
 def test_contact_triples_need_the_shared_columns():
@@ -366,11 +444,11 @@ def test_contact_triples_need_the_shared_columns():
         return ptr, np.array([c for r in rows for c in r], np.int32)
     lp, li = csr([[], [0], [0, 1], [0, 1], [0, 1, 3], [0, 1, 3, 4]])
     up, ui = csr([[1, 2, 4], [2, 4], [4], [4, 5], [5], []])
-    np.testing.assert_array_equal(S.contact_triples(lp, li, up, ui), [3, 3])
+    np.testing.assert_array_equal(T.contact_triples(lp, li, up, ui), [3, 3])
     lp, li = csr([[], [0], [0, 1], [0], [1, 3], [0, 1, 3, 4]])      # L's row 4 lost column 0
-    np.testing.assert_array_equal(S.contact_triples(lp, li, up, ui), [3, 2])
+    np.testing.assert_array_equal(T.contact_triples(lp, li, up, ui), [3, 2])
     up, ui = csr([[1, 2, 4], [2], [4], [4, 5], [5], []])              # U's row 1 lost column 4
-    np.testing.assert_array_equal(S.contact_triples(lp, li, up, ui), [1, 2])
+    np.testing.assert_array_equal(T.contact_triples(lp, li, up, ui), [1, 2])
 
 
 def test_dense_factors_rebuild_lapacks_lu():
@@ -382,7 +460,7 @@ def test_dense_factors_rebuild_lapacks_lu():
     A[rng.random((30, 30)) < 0.5] = 0.0
     A += 4 * np.eye(30)
     lu, piv = sla.lu_factor(A)
-    lp, li, lx, up, ui, ux, ud, rows = S.dense_factors(lu, piv)
+    lp, li, lx, up, ui, ux, ud, rows = T.dense_factors(lu, piv)
     L = sp.csr_matrix((lx, li, lp), shape=A.shape).toarray() + np.eye(30)
     U = sp.csr_matrix((ux, ui, up), shape=A.shape).toarray() + np.diag(ud)
     np.testing.assert_allclose(L @ U, A[rows], atol=1e-12)

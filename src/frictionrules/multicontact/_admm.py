@@ -6,8 +6,9 @@ Carpentier, Le Lidec & Montaut (RSS 2024, Pinocchio's ADMM): split :math:`r = x 
 quadratic part in x and the cone in y, with the correction :math:`s = \mu(1 - d)|z_T| e_N`
 taken from the current dual variable z (the velocity estimate); see :class:`ADMMOptions` for
 the iteration. :math:`W + (\rho + \eta) I` is factorized once per value of :math:`\rho` (sparse
-LU after a minimum-degree ordering of the contacts, :mod:`._ordering`; dense LU on small
-problems; kept on the frame, so that a value of :math:`\rho` met again, or another ADMM stage
+LU after a minimum-degree ordering of the contacts, :mod:`._ordering`, refilled on its pattern
+for a new :math:`\rho`, as :math:`L D L^T` from the lower triangle where W is symmetric; dense
+LU on small problems; kept on the frame, so that a value of :math:`\rho` met again, or another ADMM stage
 of ``"auto"``, costs no new factorization), so an iteration costs two triangular solves, one
 product with W where Siconos' error is measured (at intervals, :attr:`ADMMOptions.max_check_interval`)
 and O(nc), the latter compiled (:mod:`._admm_steps`).
@@ -66,18 +67,29 @@ def _product(fr: _Frame):
     return fr.cache["admm_product"]
 
 
-#: The compiled triangular solves (:func:`._admm_steps.lu_solve`, entry by entry, a contact's
+#: The compiled triangular solves (:func:`._triangular.lu_solve`, entry by entry, a contact's
 #: three rows together) serve while the factors hold at most this many nonzeros per unknown;
 #: beyond, SuperLU's supernodal solve (dense blocks) is faster. Measured under load, one solve,
 #: compiled against SuperLU: Spheres (6.8 per unknown) 17 against 58 µs, Capsules (13.9) 20
 #: against 62, the 1,264 boxes (22.9) 89 against 219, spheres-in-a-box (45) 30 against 87, the
-#: 1,812 spheres (91) 535 against 590; the 3,970 spheres (135) 2,850 against 2,630,
-#: KaplasTower (167) 310 against 226. The compiled loop also measures the error at intervals
+#: 1,812 spheres (91) 535 against 590; the 3,970 spheres (135) 2,850 against 2,630 (1,170
+#: from L alone, :data:`SYMMETRIC_MIN_ENTRIES`), KaplasTower (167) 310 against 226. The compiled loop also measures the error at intervals
 #: (one product with W, not one per iteration) and runs no Python per iteration: ADMM's
 #: marginal cost on the 3,970 spheres 3,070 µs an iteration with the compiled solves against
 #: 3,440 with SuperLU's (two interleaved pairs, under load); KaplasTower's 520-595 against
 #: 450-560, left to SuperLU.
 COMPILED_FILL_MAX = 150
+
+#: Where L holds at least this many entries and W is symmetric, U is dropped for
+#: :math:`D L^T` (:func:`_symmetric`): the factors' memory halves (12 bytes an entry with its
+#: index), and the solve's pass over them stays in the processor's cache. One solve, L and U
+#: against L alone (idle machine, 2 MB of cache per core): the 3,970-sphere pile (796,062
+#: entries) 2.04-2.68 ms against 1.16-1.19; the 1,812 spheres 359-575 µs against 345-349;
+#: below, 3-8 % (Spheres, 3,106 entries: 10.1 against 9.8 µs). Below the bound U is kept: its
+#: solve is a little more accurate on ill-conditioned matrices, which the choice of iterative
+#: refinement (:meth:`_Factor._refines`) reads (spheres-in-a-box at ρ + η = 3.4: relative
+#: residual 2.8e-11 from L alone, refined, each ADMM iteration then twice as long).
+SYMMETRIC_MIN_ENTRIES = 100_000
 
 #: W + cI is factorized dense (LAPACK) up to this many unknowns where W stores at least
 #: :data:`DENSE_MIN_FILL` of its entries, by SuperLU otherwise. Measured under load, one
@@ -88,6 +100,14 @@ COMPILED_FILL_MAX = 150
 #: interleaved pairs, under load; two factorizations in iterations 20-120).
 DENSE_MAX = 400
 DENSE_MIN_FILL = 0.5
+
+
+def _test_rhs(fr: _Frame):
+    """The random right-hand side of the factors' test solves (:meth:`_Factor._refines`), one
+    per frame (a new generator and draw cost 20-30 µs a factorization)."""
+    if "admm_test_rhs" not in fr.cache:
+        fr.cache["admm_test_rhs"] = np.random.default_rng(1).normal(size=fr.W.shape[0])
+    return fr.cache["admm_test_rhs"]
 
 
 class _Factor:
@@ -106,7 +126,7 @@ class _Factor:
     :data:`._ordering.BITSET_MAX` contacts SuperLU orders them itself.
 
     Where the factors hold at most :data:`COMPILED_FILL_MAX` nonzeros per unknown they are
-    kept as CSR arrays (``arrays``, the arguments of :func:`._admm_steps.lu_solve`), solved
+    kept as CSR arrays (``arrays``, the arguments of :func:`._triangular.lu_solve`), solved
     in compiled code, and ADMM's iteration runs in one compiled call
     (:func:`._admm_steps.admm_iteration`); ``arrays`` is None otherwise.
 
@@ -116,7 +136,7 @@ class _Factor:
     """
 
     def __init__(self, fr: _Frame, c: float):
-        from . import _admm_steps as S
+        from . import _triangular as T
         W = fr.W
         n = W.shape[0]
         self.first, self.kept = True, None
@@ -129,9 +149,9 @@ class _Factor:
             A = fr.cache["dense_w"].copy()
             A[np.diag_indices(n)] += c
             lu, piv = sla.lu_factor(A, overwrite_a=True, check_finite=False)
-            factors = S.dense_factors(lu, piv)
+            factors = T.dense_factors(lu, piv)
             if factors[1].size + factors[4].size + n <= COMPILED_FILL_MAX * n:
-                self.arrays = factors + (np.arange(n), S.contact_triples(factors[0], factors[1], factors[3],
+                self.arrays = factors + (np.arange(n), T.contact_triples(factors[0], factors[1], factors[3],
                                                                        factors[4]))
             else:
                 self._solve = lambda b: sla.lu_solve((lu, piv), b, check_finite=False)
@@ -139,10 +159,10 @@ class _Factor:
             return
         pattern = fr.cache.get("admm_pattern")
         if pattern is not None:         # the pattern of an earlier factorization, refilled
-            lp, li, up, ui, rows, cols, triples, bp, bi, bx = pattern
-            lx, ux, ud, ok = S.lu_refactor(bp, bi, bx, c, lp, li, up, ui)
+            lp, li, up, ui, rows, cols, triples, bp, bi, bx, refactor = pattern
+            lx, ux, ud, ok = refactor(bp, bi, bx, c, lp, li, up, ui)
             if ok:
-                self.arrays = (lp, li, lx, up, ui, ux, ud, rows, cols, triples)
+                self.arrays = _symmetric((lp, li, lx, up, ui, ux, ud, rows, cols, triples))
                 self._test_solve()
                 return
         import scipy.sparse as sp
@@ -162,11 +182,12 @@ class _Factor:
             # M_ij = A_{perm_i perm_j}
             rinv, cinv = np.empty(n, np.int64), np.empty(n, np.int64)
             rinv[lu.perm_r], cinv[lu.perm_c] = np.arange(n), np.arange(n)
-            factors = S.csr_factors(lu.L, lu.U)
-            self.arrays = factors + (perm[rinv], perm[cinv], S.contact_triples(factors[0], factors[1], factors[3],
+            factors = T.csr_factors(lu.L, lu.U)
+            self.arrays = factors + (perm[rinv], perm[cinv], T.contact_triples(factors[0], factors[1], factors[3],
                                                                               factors[4]))
             if "admm_pattern" not in fr.cache:
                 fr.cache["admm_pattern"] = _pattern(W, self.arrays, c)
+            self.arrays = _symmetric(self.arrays)
             self._test_solve()
             return
         else:
@@ -178,18 +199,18 @@ class _Factor:
         self.refine = None              # decided by the first solve
 
     def _solve(self, b):
-        from . import _admm_steps as S
+        from . import _triangular as T
         if b.ndim == 2:
             return np.column_stack([self._solve(np.ascontiguousarray(col)) for col in b.T])
-        return S.lu_solve(*self.arrays, b)
+        return T.lu_solve(*self.arrays, b)
 
     def _test_solve(self):
         """The test solve of :meth:`_refines`, compiled, at the factorization: ADMM's next
         iteration then runs in the compiled loop (two iterations ran in Python after each new
         factorization otherwise, 0.1-0.3 ms); nothing is kept."""
-        from . import _admm_steps as S
-        t = np.random.default_rng(1).normal(size=self.fr.W.shape[0])
-        self.refine = self._refines(S.lu_solve(*self.arrays, t), t)
+        from . import _triangular as T
+        t = _test_rhs(self.fr)
+        self.refine = self._refines(T.lu_solve(*self.arrays, t), t)
         self.first = False
 
     def _refines(self, x, b) -> bool:
@@ -213,7 +234,7 @@ class _Factor:
             if np.array_equal(b, kept_b):
                 return kept_x
         if self.refine is None:         # with the random test's right-hand side: one pass over
-            t = np.random.default_rng(1).normal(size=b.size)    # the factors (0.25 ms, not 0.32)
+            t = _test_rhs(self.fr)                               # the factors (0.25 ms, not 0.32)
             X = self._solve(np.column_stack((t, b)))
             x_t, x = np.ascontiguousarray(X[:, 0]), np.ascontiguousarray(X[:, 1])
             self.refine = self._refines(x_t, t)
@@ -261,14 +282,30 @@ class _Anderson:
         return S.anderson_update(v, tv, *self.buffers(v.size))
 
 
+def _symmetric(arrays):
+    r"""The factors' arrays with U dropped where L holds at least :data:`SYMMETRIC_MIN_ENTRIES`
+    entries and U is :math:`D L^T` (the same rows and columns,
+    :func:`._triangular.symmetric_form`): :func:`._triangular.lu_solve` then reads L twice."""
+    from . import _triangular as T
+    lp, li, lx, up, ui, ux, ud, rows, cols, triples = arrays
+    if lx.size < SYMMETRIC_MIN_ENTRIES or not (np.array_equal(rows, cols)
+                                               and T.symmetric_form(lp, li, lx, up, ui, ux, ud)):
+        return arrays
+    return lp, li, lx, up[:0], ui[:0], ux[:0], ud, rows, cols, triples
+
+
 def _pattern(W, arrays, c: float):
-    r"""The pattern of SuperLU's factors (``arrays`` of :func:`._admm_steps.lu_solve`, of
+    r"""The pattern of SuperLU's factors (``arrays`` of :func:`._triangular.lu_solve`, of
     :math:`W + cI`) and W's rows and columns in their order (:math:`B = W_{rows, cols}` as CSR
-    arrays), for :func:`._admm_steps.lu_refactor` to factorize :math:`W + c'I` again on it
-    (ρ changed: 20-60 µs on the shared files' patterns instead of SuperLU's 0.2-1.5 ms, under
-    load); None where SuperLU permuted rows and columns differently (a pivot off the diagonal)
-    or the refilled factors at c are not SuperLU's (a pattern missing fill)."""
-    from . import _admm_steps as S
+    arrays), and the function that factorizes :math:`W + c'I` again on it (ρ changed: 20-60 µs
+    on the shared files' patterns instead of SuperLU's 0.2-1.5 ms, under load):
+    :func:`._triangular.symmetric_refactor` where B is symmetric (to
+    :data:`._triangular.SYMMETRIC_TOL` of its largest entry) and the pattern is (half the work:
+    spheres-in-a-box 394 µs against 799, local_problem_test 41 against 72),
+    :func:`._triangular.lu_refactor` otherwise. None where SuperLU permuted rows and columns
+    differently (a pivot off the diagonal) or the refilled factors at c are not SuperLU's (a
+    pattern missing fill)."""
+    from . import _triangular as T
     lp, li, lx, up, ui, ux, ud, rows, cols, triples = arrays
     if not np.array_equal(rows, cols):
         return None
@@ -276,12 +313,18 @@ def _pattern(W, arrays, c: float):
     B.sort_indices()
     bp, bi = B.indptr.astype(np.int64), B.indices.astype(np.int64)
     bx = np.ascontiguousarray(B.data, dtype=float)
-    lx2, ux2, ud2, ok = S.lu_refactor(bp, bi, bx, c, lp, li, up, ui)
     scale = max(np.abs(ud).max(), 1e-300)
-    if not ok or any(a.size and np.abs(a - b).max() > 1e-8 * max(np.abs(b).max(), scale)
-                     for a, b in ((lx2, lx), (ux2, ux), (ud2, ud))):
+
+    def same(refactor):
+        lx2, ux2, ud2, ok = refactor(bp, bi, bx, c, lp, li, up, ui)
+        return ok and not any(a.size and np.abs(a - b).max() > 1e-8 * max(np.abs(b).max(), scale)
+                              for a, b in ((lx2, lx), (ux2, ux), (ud2, ud)))
+    if not same(T.lu_refactor):
         return None
-    return lp, li, up, ui, rows, cols, triples, bp, bi, bx
+    refactor = T.lu_refactor
+    if B.nnz and abs(B - B.T).max() <= T.SYMMETRIC_TOL * np.abs(bx).max() and same(T.symmetric_refactor):
+        refactor = T.symmetric_refactor
+    return lp, li, up, ui, rows, cols, triples, bp, bi, bx, refactor
 
 
 #: Iterations of one call of the compiled loop (:func:`._admm_steps.admm_loop`) at most: a

@@ -6,7 +6,7 @@ squares is summed in order where NumPy's dot blocked it). The NumPy version cost
 0.2 ms of Python per iteration on KaplasTower (570 contacts; 5 iterations and 12.6 ms per
 solve), beside the 0.2 ms of the triangular solves and 0.08 ms of the error.
 
-Where the factors of :math:`W + cI` are kept as CSR arrays (:func:`lu_solve`),
+Where the factors of :math:`W + cI` are kept as CSR arrays (:func:`._triangular.lu_solve`),
 :func:`admm_iteration` is the whole iteration in one call: the x-step's right-hand side, its
 two triangular solves, the y- and z-steps, the residuals and the error of the new iterate.
 SuperLU's ``solve`` spent most of its time in Python and SciPy on small problems (Spheres,
@@ -19,6 +19,7 @@ import numpy as np
 
 from .._optional import require
 from . import _kernels as K
+from ._triangular import lu_solve
 
 njit = require("numba", extra="kernels").njit
 
@@ -32,107 +33,6 @@ def x_step_rhs(q, y, x, z, mu, dil, rho, eta, s):
     for i in range(q.size):
         b[i] = -(q[i] + s[i]) + rho * y[i] + eta * x[i] + z[i]
     return b
-
-
-@njit(cache=True)
-def lu_solve(lp, li, lx, up, ui, ux, ud, rows, cols, triples, b):
-    r"""The solution x of :math:`A x = b` from the factors :math:`L U = B`,
-    :math:`B_{ij} = A_{r_i c_j}` (``rows``, ``cols``): L unit lower triangular (its strictly
-    lower part as CSR arrays ``lp, li, lx``), U upper triangular (its strictly upper part
-    ``up, ui, ux`` and its diagonal ``ud``). Row by row (a gather, no scattered writes):
-    :math:`y_i = b_{r_i} - \sum_{j<i} L_{ij} y_j`, then
-    :math:`x_{c_i} = (y_i - \sum_{j>i} U_{ij} x_{c_j}) / U_{ii}`.
-
-    Where ``triples[t]`` (:func:`contact_triples`), the rows 3t, 3t + 1, 3t + 2 (a contact's) share
-    their columns outside the triple and are summed together: three independent sums where
-    one row's sum waited on the last (the solve is bound by the latency of that chain: 2 ns
-    an entry on Spheres' factors, 7 entries a row). The forward sums keep their order (the
-    same bits); the backward ones take the triple's own columns last."""
-    n = b.size
-    y = np.empty(n)
-    i = 0
-    while i < n:
-        if i % 3 == 0 and triples[i // 3] & 1:
-            p0, p1, p2 = lp[i], lp[i + 1], lp[i + 2]
-            m = p1 - p0
-            a0, a1, a2 = b[rows[i]], b[rows[i + 1]], b[rows[i + 2]]
-            for k in range(m):
-                yc = y[li[p0 + k]]
-                a0 -= lx[p0 + k] * yc
-                a1 -= lx[p1 + k] * yc
-                a2 -= lx[p2 + k] * yc
-            y[i] = a0
-            a1 -= lx[p1 + m] * a0
-            y[i + 1] = a1
-            a2 -= lx[p2 + m] * a0
-            a2 -= lx[p2 + m + 1] * a1
-            y[i + 2] = a2
-            i += 3
-            continue
-        acc = b[rows[i]]
-        for p in range(lp[i], lp[i + 1]):
-            acc -= lx[p] * y[li[p]]
-        y[i] = acc
-        i += 1
-    x = np.empty(n)
-    i = n - 1
-    while i >= 0:
-        if i % 3 == 2 and triples[i // 3] & 2:
-            p0, p1, p2 = up[i - 2], up[i - 1], up[i]
-            m = up[i + 1] - p2
-            a0, a1, a2 = y[i - 2], y[i - 1], y[i]
-            for k in range(m):
-                yc = y[ui[p2 + k]]
-                a0 -= ux[p0 + 2 + k] * yc
-                a1 -= ux[p1 + 1 + k] * yc
-                a2 -= ux[p2 + k] * yc
-            y[i] = a2 / ud[i]
-            y[i - 1] = (a1 - ux[p1] * y[i]) / ud[i - 1]
-            y[i - 2] = ((a0 - ux[p0] * y[i - 1]) - ux[p0 + 1] * y[i]) / ud[i - 2]
-            x[cols[i]], x[cols[i - 1]], x[cols[i - 2]] = y[i], y[i - 1], y[i - 2]
-            i -= 3
-            continue
-        acc = y[i]
-        for p in range(up[i], up[i + 1]):
-            acc -= ux[p] * y[ui[p]]
-        y[i] = acc / ud[i]
-        x[cols[i]] = y[i]
-        i -= 1
-    return x
-
-
-@njit(cache=True)
-def contact_triples(lp, li, up, ui):
-    """Per triple of rows (3t, 3t + 1, 3t + 2) of the factors' CSR arrays (each row's columns
-    ascending): bit 1 when L's rows are ``P``, ``P + [3t]``, ``P + [3t, 3t + 1]`` (one set P
-    of columns), bit 2 when U's rows are ``[3t + 1, 3t + 2] + Q``, ``[3t + 2] + Q``, ``Q``."""
-    n = lp.size - 1
-    out = np.zeros(n // 3, np.uint8)
-    for t in range(n // 3):
-        i = 3 * t
-        p0, p1, p2 = lp[i], lp[i + 1], lp[i + 2]
-        m = p1 - p0
-        ok = lp[i + 2] - p1 == m + 1 and lp[i + 3] - p2 == m + 2
-        if ok:
-            ok = li[p1 + m] == i and li[p2 + m] == i and li[p2 + m + 1] == i + 1
-            for k in range(m):
-                if not ok:
-                    break
-                ok = li[p1 + k] == li[p0 + k] and li[p2 + k] == li[p0 + k]
-        if ok:
-            out[t] |= 1
-        q0, q1, q2 = up[i], up[i + 1], up[i + 2]
-        m = up[i + 3] - q2
-        ok = q2 - q1 == m + 1 and q1 - q0 == m + 2
-        if ok:
-            ok = ui[q1] == i + 2 and ui[q0] == i + 1 and ui[q0 + 1] == i + 2
-            for k in range(m):
-                if not ok:
-                    break
-                ok = ui[q1 + 1 + k] == ui[q2 + k] and ui[q0 + 2 + k] == ui[q2 + k]
-        if ok:
-            out[t] |= 2
-    return out
 
 
 @njit(cache=True)
@@ -331,114 +231,6 @@ def power_iteration(indptr, indices, data, v, iterations, blocks):
             return 0.0
         v = w / lam
     return lam
-
-
-@njit(cache=True)
-def _strict_rows(cp, ci, cx, lower):
-    """The strictly lower (``lower``) or upper part of a square CSC matrix as CSR arrays (each
-    row's columns ascending), and its diagonal (zero where not stored)."""
-    n = cp.size - 1
-    count = np.zeros(n + 1, np.int64)
-    diag = np.zeros(n)
-    for j in range(n):
-        for p in range(cp[j], cp[j + 1]):
-            i = ci[p]
-            if i == j:
-                diag[j] = cx[p]
-            elif (i > j) == lower:
-                count[i + 1] += 1
-    for i in range(n):
-        count[i + 1] += count[i]
-    ptr = count.astype(np.int32)
-    idx = np.empty(count[n], np.int32)
-    val = np.empty(count[n])
-    nxt = count[:n].copy()
-    for j in range(n):
-        for p in range(cp[j], cp[j + 1]):
-            i = ci[p]
-            if i != j and (i > j) == lower:
-                idx[nxt[i]], val[nxt[i]] = j, cx[p]
-                nxt[i] += 1
-    return ptr, idx, val, diag
-
-
-@njit(cache=True)
-def dense_factors(lu, piv):
-    """``(lp, li, lx, up, ui, ux, ud, rows)`` of :func:`lu_solve` from LAPACK's packed LU (L
-    unit lower triangular below the diagonal, U on and above it; their zero entries left out)
-    and its row interchanges ``piv`` (row i swapped with row ``piv[i]``, in turn)."""
-    n = lu.shape[0]
-    rows = np.arange(n)
-    for i in range(n):
-        rows[i], rows[piv[i]] = rows[piv[i]], rows[i]
-    lp, up = np.zeros(n + 1, np.int32), np.zeros(n + 1, np.int32)
-    for i in range(n):
-        lp[i + 1], up[i + 1] = lp[i], up[i]
-        for j in range(n):
-            if lu[i, j] != 0.0 and j != i:
-                if j < i:
-                    lp[i + 1] += 1
-                else:
-                    up[i + 1] += 1
-    li, lx = np.empty(lp[n], np.int32), np.empty(lp[n])
-    ui, ux = np.empty(up[n], np.int32), np.empty(up[n])
-    ud = np.empty(n)
-    for i in range(n):
-        a, b = lp[i], up[i]
-        for j in range(n):
-            e = lu[i, j]
-            if j == i:
-                ud[i] = e
-            elif e != 0.0:
-                if j < i:
-                    li[a], lx[a] = j, e
-                    a += 1
-                else:
-                    ui[b], ux[b] = j, e
-                    b += 1
-    return lp, li, lx, up, ui, ux, ud, rows
-
-
-@njit(cache=True)
-def lu_refactor(bp, bi, bx, c, lp, li, up, ui):
-    r"""The factors of :math:`B + cI` (B's CSR arrays ``bp, bi, bx``) on the pattern of an
-    earlier factorization of B + c'I without pivoting (L's strict rows ``lp, li``, U's ``up,
-    ui``, columns ascending; a pattern that holds every fill entry, such as SuperLU's on
-    diagonal pivots): ``(lx, ux, ud, ok)`` as :func:`lu_solve` takes them, row by row
-    (:math:`w = B_{i\cdot} + c e_i`; for each k of L's row in order,
-    :math:`L_{ik} = w_k / U_{kk}`, :math:`w \leftarrow w - L_{ik} U_{k\cdot}`; then U's row
-    is w's). ``ok`` false where a pivot is zero or not finite."""
-    n = lp.size - 1
-    lx, ux, ud = np.empty(li.size), np.empty(ui.size), np.empty(n)
-    w = np.zeros(n)
-    ok = True
-    for i in range(n):
-        for p in range(bp[i], bp[i + 1]):
-            w[bi[p]] = bx[p]
-        w[i] += c
-        for p in range(lp[i], lp[i + 1]):
-            k = li[p]
-            lik = w[k] / ud[k]
-            lx[p] = lik
-            w[k] = 0.0
-            for r in range(up[k], up[k + 1]):
-                w[ui[r]] -= lik * ux[r]
-        d = w[i]
-        ok = ok and d != 0.0 and np.isfinite(d)
-        ud[i] = d
-        w[i] = 0.0
-        for r in range(up[i], up[i + 1]):
-            ux[r] = w[ui[r]]
-            w[ui[r]] = 0.0
-    return lx, ux, ud, ok
-
-
-def csr_factors(L, U):
-    """``(lp, li, lx, up, ui, ux, ud)`` of :func:`lu_solve` from the CSC factors L (unit lower
-    triangular) and U (upper triangular) of SciPy's SuperLU or of dense triangles."""
-    lp, li, lx, _ = _strict_rows(L.indptr, L.indices, L.data, True)
-    up, ui, ux, ud = _strict_rows(U.indptr, U.indices, U.data, False)
-    return lp, li, lx, up, ui, ux, ud
 
 
 @njit(cache=True)
