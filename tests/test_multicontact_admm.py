@@ -171,6 +171,7 @@ def test_refactorization_on_the_pattern_is_a_dense_solve(monkeypatch, nonsymmetr
     W + c' I, and the refilled factors at c are SuperLU's (the pattern's own check)."""
     from frictionrules.multicontact import _admm as A
     monkeypatch.setattr(A, "SYMMETRIC_MIN_ENTRIES", 0)
+    monkeypatch.setattr(T, "block_factors", lambda arrays: arrays)         # the rows' form
     nc = 200
     W = block_matrix(nc, 4, density=0.005, nonsymmetric=nonsymmetric)      # factors: 34 per unknown
     fr = _Frame(FrictionContactProblem(W, np.ones(3 * nc), np.full(nc, 0.5)))
@@ -377,6 +378,7 @@ def test_compiled_triangular_solves_are_a_dense_solve(monkeypatch, nc, nonsymmet
     from frictionrules.multicontact import _admm as A
     monkeypatch.setattr(A, "COMPILED_FILL_MAX", 3 * nc)
     monkeypatch.setattr(A, "SYMMETRIC_MIN_ENTRIES", 0)
+    monkeypatch.setattr(T, "block_factors", lambda arrays: arrays)         # the rows' form
     W = block_matrix(nc, 6, density=0.02, nonsymmetric=nonsymmetric)
     fr = _Frame(FrictionContactProblem(W, np.ones(3 * nc), np.full(nc, 0.5)))
     c = 0.1
@@ -408,6 +410,7 @@ def test_symmetric_form_is_the_lu_solve_with_u(monkeypatch, nc):
     keep = A._symmetric
     monkeypatch.setattr(A, "_symmetric", lambda arrays: arrays)
     monkeypatch.setattr(A, "COMPILED_FILL_MAX", 3 * nc)
+    monkeypatch.setattr(T, "block_factors", lambda arrays: arrays)         # the rows' form
     W = block_matrix(nc, 6, density=0.02)
     fr = _Frame(FrictionContactProblem(W, np.ones(3 * nc), np.full(nc, 0.5)))
     full = _Factor(fr, 0.1).arrays
@@ -434,6 +437,67 @@ def test_symmetric_form_is_the_lu_solve_with_u(monkeypatch, nc):
     short = up.copy()
     short[-2:] -= 1                                 # U's last stored entry left out
     assert not T.symmetric_form(lp, li, lx, short, ui[:-1], ux[:-1], ud)
+
+
+@pytest.mark.parametrize("nonsymmetric, symmetric_min", [(0.0, 0), (0.0, 10**9), (0.3, 0)])
+def test_block_factors_solve_as_the_rows_bit_for_bit(monkeypatch, nonsymmetric, symmetric_min):
+    """The factors in 3 x 3 blocks by contacts (:func:`block_factors`) give the solve of the
+    rows' form bit for bit: L alone (U = D L^T), L and U of a symmetric W, L and U of a
+    nonsymmetric one; and the blocks hold every entry of the rows, each in its place."""
+    from frictionrules.multicontact import _admm as A
+    monkeypatch.setattr(A, "COMPILED_FILL_MAX", 600)
+    monkeypatch.setattr(A, "SYMMETRIC_MIN_ENTRIES", symmetric_min)
+    keep = T.block_factors
+    monkeypatch.setattr(T, "block_factors", lambda arrays: arrays)
+    nc = 200
+    W = block_matrix(nc, 6, density=0.02, nonsymmetric=nonsymmetric)
+    fr = _Frame(FrictionContactProblem(W, np.ones(3 * nc), np.full(nc, 0.5)))
+    rows = _Factor(fr, 0.1).arrays
+    blocks = keep(rows)
+    assert blocks is not rows and blocks[0].size == nc + 1
+    assert (blocks[3].size == 0) == (rows[3].size == 0) == (nonsymmetric == 0.0 and symmetric_min == 0)
+    for b in np.random.default_rng(9).normal(size=(3, 3 * nc)):
+        np.testing.assert_array_equal(T.lu_solve(*blocks, b), T.lu_solve(*rows, b))
+    lp, li, lx = rows[:3]
+    bp, bc, bv = blocks[:3]
+    L = sp.csr_matrix((lx, li, lp), shape=(3 * nc, 3 * nc)).toarray()
+    Lb = np.zeros_like(L)
+    for t in range(nc):
+        for k in range(bp[t], bp[t + 1]):
+            Lb[3 * t:3 * t + 3, 3 * bc[k]:3 * bc[k] + 3] += bv[9 * k:9 * k + 9].reshape(3, 3)
+    np.testing.assert_array_equal(Lb, L)
+    if rows[3].size:
+        up, ui, ux = rows[3:6]
+        cp, cc, cv = blocks[3:6]
+        U = sp.csr_matrix((ux, ui, up), shape=(3 * nc, 3 * nc)).toarray()
+        Ub = np.zeros_like(U)
+        for t in range(nc):
+            for k in range(cp[t], cp[t + 1]):
+                Ub[3 * t:3 * t + 3, 3 * cc[k]:3 * cc[k] + 3] += cv[9 * k:9 * k + 9].reshape(3, 3)
+        np.testing.assert_array_equal(Ub, U)
+
+
+def test_block_factors_need_whole_contacts():
+    """Factors whose rows are not contacts' triples, or whose shared columns are not whole
+    contacts, stay in the rows' form."""
+    def csr(rows):
+        return (np.cumsum([0] + [len(r) for r in rows]).astype(np.int32),
+                np.array([c for r in rows for c in r], np.int32))
+    lp, li = csr([[], [0], [0, 1], [0, 1, 2], [0, 1, 2, 3], [0, 1, 2, 3, 4]])
+    up, ui = csr([[1, 2, 3, 4, 5], [2, 3, 4, 5], [3, 4, 5], [4, 5], [5], []])
+    lx, ux, ud = np.arange(1.0, li.size + 1), np.arange(1.0, ui.size + 1), np.full(6, 10.0)
+    rows = np.arange(6)
+    triples = T.contact_triples(lp, li, up, ui)
+    arrays = (lp, li, lx, up, ui, ux, ud, rows, rows, triples)
+    blocks = T.block_factors(arrays)
+    assert blocks[0].size == 3
+    b = np.arange(6.0)
+    np.testing.assert_array_equal(T.lu_solve(*blocks, b), T.lu_solve(*arrays, b))
+    lp2, li2 = csr([[], [0], [0, 1], [1], [1, 3], [1, 3, 4]])       # contact 1 shares column 1 only
+    up2, ui2 = csr([[1, 2], [2, 3], [3, 4, 5], [4, 5], [5], []])
+    triples2 = T.contact_triples(lp2, li2, up2, ui2)
+    arrays2 = (lp2, li2, np.ones(li2.size), up2, ui2, np.ones(ui2.size), ud, rows, rows, triples2)
+    assert T.block_factors(arrays2) is arrays2
 
 
 def test_contact_triples_need_the_shared_columns():

@@ -126,7 +126,8 @@ class _Factor:
     :data:`._ordering.BITSET_MAX` contacts SuperLU orders them itself.
 
     Where the factors hold at most :data:`COMPILED_FILL_MAX` nonzeros per unknown they are
-    kept as CSR arrays (``arrays``, the arguments of :func:`._triangular.lu_solve`), solved
+    kept as CSR arrays (``arrays``, the arguments of :func:`._triangular.lu_solve`; in 3 x 3
+    blocks by contacts where they are made of them, :func:`._triangular.block_factors`), solved
     in compiled code, and ADMM's iteration runs in one compiled call
     (:func:`._admm_steps.admm_iteration`); ``arrays`` is None otherwise.
 
@@ -162,7 +163,7 @@ class _Factor:
             lp, li, up, ui, rows, cols, triples, bp, bi, bx, refactor = pattern
             lx, ux, ud, ok = refactor(bp, bi, bx, c, lp, li, up, ui)
             if ok:
-                self.arrays = _symmetric((lp, li, lx, up, ui, ux, ud, rows, cols, triples))
+                self.arrays = T.block_factors(_symmetric((lp, li, lx, up, ui, ux, ud, rows, cols, triples)))
                 self._test_solve()
                 return
         import scipy.sparse as sp
@@ -187,7 +188,7 @@ class _Factor:
                                                                               factors[4]))
             if "admm_pattern" not in fr.cache:
                 fr.cache["admm_pattern"] = _pattern(W, self.arrays, c)
-            self.arrays = _symmetric(self.arrays)
+            self.arrays = T.block_factors(_symmetric(self.arrays))
             self._test_solve()
             return
         else:

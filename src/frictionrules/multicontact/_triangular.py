@@ -35,7 +35,12 @@ def lu_solve(lp, li, lx, up, ui, ux, ud, rows, cols, triples, b):
     their columns outside the triple and are summed together: three independent sums where
     one row's sum waited on the last (the solve is bound by the latency of that chain: 2 ns
     an entry on Spheres' factors, 7 entries a row). The forward sums keep their order (the
-    same bits); the backward ones take the triple's own columns last."""
+    same bits); the backward ones take the triple's own columns last.
+
+    Factors in 3 x 3 blocks (:func:`block_factors`: ``lp`` then has one entry per contact and
+    one more) are solved by :func:`_block_solve`, the same sums in the same order."""
+    if lp.size - 1 < ud.size:
+        return _block_solve(lp, li, lx, up, ui, ux, ud, rows, cols, b)
     n = b.size
     y = np.empty(n)
     i = 0
@@ -125,6 +130,161 @@ def _backward_ldl(lp, li, lx, ud, cols, triples, y):
     x = np.empty(n)
     for i in range(n):
         x[cols[i]] = y[i]
+    return x
+
+
+@njit(cache=True)
+def _blocks_of(pp, pi, px, lower, triples):
+    """The strict triangle ``pp, pi, px`` (CSR) as 3 x 3 blocks by contacts, or empty arrays where
+    a contact's rows are not a triple (``triples[t]`` bit 1 for L, 2 for U) or its shared
+    columns are not whole contacts. Per contact t its off-diagonal blocks (columns ascending)
+    and its diagonal block, last in L and first in U, holding the triangle's three entries of
+    the contact's own 3 x 3 block (the other six zero); ``(ptr, block columns, values)``,
+    the values row-major, nine per block."""
+    n = pp.size - 1
+    nc = n // 3
+    bit = 1 if lower else 2
+    ptr = np.zeros(nc + 1, np.int32)
+    for t in range(nc):
+        if not triples[t] & bit:
+            return ptr[:0], pi[:0], px[:0]
+        i = 3 * t
+        p = pp[i] if lower else pp[i + 2]
+        m = pp[i + 1] - pp[i] if lower else pp[i + 3] - pp[i + 2]
+        if m % 3:
+            return ptr[:0], pi[:0], px[:0]
+        for q in range(m // 3):
+            c = pi[p + 3 * q]
+            if c % 3 or pi[p + 3 * q + 1] != c + 1 or pi[p + 3 * q + 2] != c + 2:
+                return ptr[:0], pi[:0], px[:0]
+        ptr[t + 1] = ptr[t] + m // 3 + 1
+    cols = np.empty(ptr[nc], np.int32)
+    vals = np.zeros(9 * ptr[nc])
+    first = np.empty(3, np.int64)
+    for t in range(nc):
+        i = 3 * t
+        k = ptr[t]
+        if lower:
+            p0, p1, p2 = pp[i], pp[i + 1], pp[i + 2]
+            m = p1 - p0
+            first[0], first[1], first[2] = p0, p1, p2      # where each row's shared columns start
+        else:
+            p0, p1, p2 = pp[i], pp[i + 1], pp[i + 2]
+            m = pp[i + 3] - p2
+            cols[k] = t                         # U's diagonal block first
+            vals[9 * k + 1], vals[9 * k + 2], vals[9 * k + 5] = px[p0], px[p0 + 1], px[p1]
+            k += 1
+            first[0], first[1], first[2] = p0 + 2, p1 + 1, p2
+        for q in range(m // 3):
+            cols[k] = pi[first[0] + 3 * q] // 3
+            for r in range(3):
+                for c in range(3):
+                    vals[9 * k + 3 * r + c] = px[first[r] + 3 * q + c]
+            k += 1
+        if lower:                               # L's diagonal block last
+            cols[k] = t
+            vals[9 * k + 3], vals[9 * k + 6], vals[9 * k + 7] = px[p1 + m], px[p2 + m], px[p2 + m + 1]
+    return ptr, cols, vals
+
+
+def block_factors(arrays):
+    r"""The arrays of :func:`lu_solve` with L (and U where kept) in 3 x 3 blocks by contacts
+    (:func:`_blocks_of`), or ``arrays`` themselves where the factors are not made of whole
+    blocks. A block's nine values are read in one pass and its three entries of the solution
+    in one place, with one index for nine entries: one solve on an idle machine, blocks
+    against rows (L alone): the 3,970-sphere pile 473 against 1,189 µs, the 1,812 spheres 150
+    against 342, spheres-in-a-box 12.3 against 26.4, Box_Stacks 2.3 against 3.5; the same
+    bits."""
+    lp, li, lx, up, ui, ux, ud, rows, cols, triples = arrays
+    if ud.size % 3 or triples.size != ud.size // 3:
+        return arrays
+    bp, bc, bv = _blocks_of(lp, li, lx, True, triples)
+    if bp.size == 0:
+        return arrays
+    if up.size:
+        cp, cc, cv = _blocks_of(up, ui, ux, False, triples)
+        if cp.size == 0:
+            return arrays
+    else:
+        cp, cc, cv = up, ui, ux
+    return bp, bc, bv, cp, cc, cv, ud, rows, cols, triples
+
+
+@njit(cache=True)
+def _block_solve(bp, bc, bv, cp, cc, cv, ud, rows, cols, b):
+    """:func:`lu_solve` on factors in 3 x 3 blocks (:func:`block_factors`; ``cp`` empty: U
+    is :math:`D L^T`): per contact, its blocks in the order of the rows' entries, so each
+    row's sum is the one of the rows' form, term by term."""
+    n = b.size
+    nc = n // 3
+    y = np.empty(n)
+    for t in range(nc):
+        i = 3 * t
+        a0, a1, a2 = b[rows[i]], b[rows[i + 1]], b[rows[i + 2]]
+        last = bp[t + 1] - 1
+        for k in range(bp[t], last):
+            s = 3 * bc[k]
+            y0, y1, y2 = y[s], y[s + 1], y[s + 2]
+            q = 9 * k
+            a0 -= bv[q] * y0
+            a1 -= bv[q + 3] * y0
+            a2 -= bv[q + 6] * y0
+            a0 -= bv[q + 1] * y1
+            a1 -= bv[q + 4] * y1
+            a2 -= bv[q + 7] * y1
+            a0 -= bv[q + 2] * y2
+            a1 -= bv[q + 5] * y2
+            a2 -= bv[q + 8] * y2
+        q = 9 * last
+        y[i] = a0
+        a1 -= bv[q + 3] * a0
+        y[i + 1] = a1
+        a2 -= bv[q + 6] * a0
+        a2 -= bv[q + 7] * a1
+        y[i + 2] = a2
+    x = np.empty(n)
+    if cp.size == 0:                    # L^T x' = D^-1 y, column by column
+        for i in range(n):
+            y[i] /= ud[i]
+        for t in range(nc - 1, -1, -1):
+            i = 3 * t
+            last = bp[t + 1] - 1
+            q = 9 * last
+            x2 = y[i + 2]
+            x1 = y[i + 1] - bv[q + 7] * x2
+            x0 = (y[i] - bv[q + 3] * x1) - bv[q + 6] * x2
+            y[i], y[i + 1], y[i + 2] = x0, x1, x2
+            for k in range(bp[t], last):
+                s = 3 * bc[k]
+                q = 9 * k
+                y[s] -= (bv[q] * x0 + bv[q + 3] * x1) + bv[q + 6] * x2
+                y[s + 1] -= (bv[q + 1] * x0 + bv[q + 4] * x1) + bv[q + 7] * x2
+                y[s + 2] -= (bv[q + 2] * x0 + bv[q + 5] * x1) + bv[q + 8] * x2
+        for i in range(n):
+            x[cols[i]] = y[i]
+        return x
+    for t in range(nc - 1, -1, -1):     # U x' = y, row by row
+        i = 3 * t
+        a0, a1, a2 = y[i], y[i + 1], y[i + 2]
+        first = cp[t]
+        for k in range(first + 1, cp[t + 1]):
+            s = 3 * cc[k]
+            y0, y1, y2 = y[s], y[s + 1], y[s + 2]
+            q = 9 * k
+            a0 -= cv[q] * y0
+            a1 -= cv[q + 3] * y0
+            a2 -= cv[q + 6] * y0
+            a0 -= cv[q + 1] * y1
+            a1 -= cv[q + 4] * y1
+            a2 -= cv[q + 7] * y1
+            a0 -= cv[q + 2] * y2
+            a1 -= cv[q + 5] * y2
+            a2 -= cv[q + 8] * y2
+        q = 9 * first
+        y[i + 2] = a2 / ud[i + 2]
+        y[i + 1] = (a1 - cv[q + 5] * y[i + 2]) / ud[i + 1]
+        y[i] = ((a0 - cv[q + 1] * y[i + 1]) - cv[q + 2] * y[i + 2]) / ud[i]
+        x[cols[i]], x[cols[i + 1]], x[cols[i + 2]] = y[i], y[i + 1], y[i + 2]
     return x
 
 
