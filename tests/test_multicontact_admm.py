@@ -171,7 +171,7 @@ def test_refactorization_on_the_pattern_is_a_dense_solve(monkeypatch, nonsymmetr
     W + c' I, and the refilled factors at c are SuperLU's (the pattern's own check)."""
     from frictionrules.multicontact import _admm as A
     monkeypatch.setattr(A, "SYMMETRIC_MIN_ENTRIES", 0)
-    monkeypatch.setattr(T, "block_factors", lambda arrays: arrays)         # the rows' form
+    monkeypatch.setattr(T, "block_factors", lambda arrays, patterns=None: (arrays, patterns))         # the rows' form
     nc = 200
     W = block_matrix(nc, 4, density=0.005, nonsymmetric=nonsymmetric)      # factors: 34 per unknown
     fr = _Frame(FrictionContactProblem(W, np.ones(3 * nc), np.full(nc, 0.5)))
@@ -378,7 +378,7 @@ def test_compiled_triangular_solves_are_a_dense_solve(monkeypatch, nc, nonsymmet
     from frictionrules.multicontact import _admm as A
     monkeypatch.setattr(A, "COMPILED_FILL_MAX", 3 * nc)
     monkeypatch.setattr(A, "SYMMETRIC_MIN_ENTRIES", 0)
-    monkeypatch.setattr(T, "block_factors", lambda arrays: arrays)         # the rows' form
+    monkeypatch.setattr(T, "block_factors", lambda arrays, patterns=None: (arrays, patterns))         # the rows' form
     W = block_matrix(nc, 6, density=0.02, nonsymmetric=nonsymmetric)
     fr = _Frame(FrictionContactProblem(W, np.ones(3 * nc), np.full(nc, 0.5)))
     c = 0.1
@@ -410,7 +410,7 @@ def test_symmetric_form_is_the_lu_solve_with_u(monkeypatch, nc):
     keep = A._symmetric
     monkeypatch.setattr(A, "_symmetric", lambda arrays: arrays)
     monkeypatch.setattr(A, "COMPILED_FILL_MAX", 3 * nc)
-    monkeypatch.setattr(T, "block_factors", lambda arrays: arrays)         # the rows' form
+    monkeypatch.setattr(T, "block_factors", lambda arrays, patterns=None: (arrays, patterns))         # the rows' form
     W = block_matrix(nc, 6, density=0.02)
     fr = _Frame(FrictionContactProblem(W, np.ones(3 * nc), np.full(nc, 0.5)))
     full = _Factor(fr, 0.1).arrays
@@ -448,12 +448,12 @@ def test_block_factors_solve_as_the_rows_bit_for_bit(monkeypatch, nonsymmetric, 
     monkeypatch.setattr(A, "COMPILED_FILL_MAX", 600)
     monkeypatch.setattr(A, "SYMMETRIC_MIN_ENTRIES", symmetric_min)
     keep = T.block_factors
-    monkeypatch.setattr(T, "block_factors", lambda arrays: arrays)
+    monkeypatch.setattr(T, "block_factors", lambda arrays, patterns=None: (arrays, patterns))
     nc = 200
     W = block_matrix(nc, 6, density=0.02, nonsymmetric=nonsymmetric)
     fr = _Frame(FrictionContactProblem(W, np.ones(3 * nc), np.full(nc, 0.5)))
     rows = _Factor(fr, 0.1).arrays
-    blocks = keep(rows)
+    blocks, _ = keep(rows)
     assert blocks is not rows and blocks[0].size == nc + 1
     assert (blocks[3].size == 0) == (rows[3].size == 0) == (nonsymmetric == 0.0 and symmetric_min == 0)
     for b in np.random.default_rng(9).normal(size=(3, 3 * nc)):
@@ -477,27 +477,34 @@ def test_block_factors_solve_as_the_rows_bit_for_bit(monkeypatch, nonsymmetric, 
         np.testing.assert_array_equal(Ub, U)
 
 
-def test_block_factors_need_whole_contacts():
-    """Factors whose rows are not contacts' triples, or whose shared columns are not whole
-    contacts, stay in the rows' form."""
+def test_block_factors_fill_partial_blocks_with_zeros(monkeypatch):
+    """Rows that are not a contact's triple, or blocks they fill in part, are stored in blocks
+    with zeros where no entry is (the solve of the rows' form to round-off, and a dense
+    solve's); a pattern whose blocks would be mostly zeros stays in the rows' form."""
+    monkeypatch.setattr(T, "BLOCK_FILL_MAX", 10.0)      # two contacts: blocks mostly the diagonal's
     def csr(rows):
         return (np.cumsum([0] + [len(r) for r in rows]).astype(np.int32),
                 np.array([c for r in rows for c in r], np.int32))
-    lp, li = csr([[], [0], [0, 1], [0, 1, 2], [0, 1, 2, 3], [0, 1, 2, 3, 4]])
-    up, ui = csr([[1, 2, 3, 4, 5], [2, 3, 4, 5], [3, 4, 5], [4, 5], [5], []])
-    lx, ux, ud = np.arange(1.0, li.size + 1), np.arange(1.0, ui.size + 1), np.full(6, 10.0)
+    rng = np.random.default_rng(4)
+    lp, li = csr([[], [0], [0, 1], [1], [1, 3], [0, 1, 3, 4]])      # contact 1: partial blocks
+    up, ui = csr([[1, 2, 4], [2, 3], [3, 4, 5], [4, 5], [5], []])
+    lx, ux, ud = rng.normal(size=li.size), rng.normal(size=ui.size), rng.uniform(2, 3, 6)
     rows = np.arange(6)
-    triples = T.contact_triples(lp, li, up, ui)
-    arrays = (lp, li, lx, up, ui, ux, ud, rows, rows, triples)
-    blocks = T.block_factors(arrays)
-    assert blocks[0].size == 3
-    b = np.arange(6.0)
-    np.testing.assert_array_equal(T.lu_solve(*blocks, b), T.lu_solve(*arrays, b))
-    lp2, li2 = csr([[], [0], [0, 1], [1], [1, 3], [1, 3, 4]])       # contact 1 shares column 1 only
-    up2, ui2 = csr([[1, 2], [2, 3], [3, 4, 5], [4, 5], [5], []])
-    triples2 = T.contact_triples(lp2, li2, up2, ui2)
-    arrays2 = (lp2, li2, np.ones(li2.size), up2, ui2, np.ones(ui2.size), ud, rows, rows, triples2)
-    assert T.block_factors(arrays2) is arrays2
+    arrays = (lp, li, lx, up, ui, ux, ud, rows, rows, T.contact_triples(lp, li, up, ui))
+    blocks, _ = T.block_factors(arrays)
+    assert blocks[0].size == 3 and blocks[2].size == 9 * 3 and blocks[5].size == 9 * 3
+    L = np.eye(6) + sp.csr_matrix((lx, li, lp), shape=(6, 6)).toarray()
+    U = np.diag(ud) + sp.csr_matrix((ux, ui, up), shape=(6, 6)).toarray()
+    b = rng.normal(size=6)
+    np.testing.assert_allclose(T.lu_solve(*blocks, b), T.lu_solve(*arrays, b), rtol=1e-14)
+    np.testing.assert_allclose(T.lu_solve(*blocks, b), np.linalg.solve(L @ U, b), rtol=1e-12)
+    monkeypatch.setattr(T, "BLOCK_FILL_MAX", 1.5)
+    nc = 30                                                            # one entry per row, each
+    lp, li = csr([[] for _ in range(3)] + [[3 * (k // 3) - 3 + k % 3] for k in range(3, 3 * nc)])
+    up, ui = csr([[] for _ in range(3 * nc)])                          # in a block of its own row
+    scattered = (lp, li, np.ones(li.size), up, ui, np.ones(0), np.ones(3 * nc), np.arange(3 * nc),
+                 np.arange(3 * nc), T.contact_triples(lp, li, up, ui))
+    assert T.block_factors(scattered)[0] is scattered
 
 
 def test_contact_triples_need_the_shared_columns():

@@ -163,7 +163,8 @@ class _Factor:
             lp, li, up, ui, rows, cols, triples, bp, bi, bx, refactor = pattern
             lx, ux, ud, ok = refactor(bp, bi, bx, c, lp, li, up, ui)
             if ok:
-                self.arrays = T.block_factors(_symmetric((lp, li, lx, up, ui, ux, ud, rows, cols, triples)))
+                self.arrays, fr.cache["admm_blocks"] = T.block_factors(
+                    _symmetric((lp, li, lx, up, ui, ux, ud, rows, cols, triples)), fr.cache.get("admm_blocks"))
                 self._test_solve()
                 return
         import scipy.sparse as sp
@@ -186,9 +187,12 @@ class _Factor:
             factors = T.csr_factors(lu.L, lu.U)
             self.arrays = factors + (perm[rinv], perm[cinv], T.contact_triples(factors[0], factors[1], factors[3],
                                                                               factors[4]))
-            if "admm_pattern" not in fr.cache:
+            fresh = "admm_pattern" not in fr.cache
+            if fresh:
                 fr.cache["admm_pattern"] = _pattern(W, self.arrays, c)
-            self.arrays = T.block_factors(_symmetric(self.arrays))
+            self.arrays, blocks = T.block_factors(_symmetric(self.arrays))
+            if fresh and fr.cache["admm_pattern"] is not None:     # the blocks of the kept pattern
+                fr.cache["admm_blocks"] = blocks
             self._test_solve()
             return
         else:

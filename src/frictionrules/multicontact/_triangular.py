@@ -134,80 +134,88 @@ def _backward_ldl(lp, li, lx, ud, cols, triples, y):
 
 
 @njit(cache=True)
-def _blocks_of(pp, pi, px, lower, triples):
-    """The strict triangle ``pp, pi, px`` (CSR) as 3 x 3 blocks by contacts, or empty arrays where
-    a contact's rows are not a triple (``triples[t]`` bit 1 for L, 2 for U) or its shared
-    columns are not whole contacts. Per contact t its off-diagonal blocks (columns ascending)
-    and its diagonal block, last in L and first in U, holding the triangle's three entries of
-    the contact's own 3 x 3 block (the other six zero); ``(ptr, block columns, values)``,
-    the values row-major, nine per block."""
+def block_pattern(pp, pi, lower):
+    """The strict triangle ``pp, pi`` (CSR, each row's columns ascending) in 3 x 3 blocks, the
+    rows 3t, 3t + 1, 3t + 2 (contact t's) together: per contact the blocks that hold an entry
+    of its rows (columns ascending) and its diagonal block, last in L and first in U, which
+    holds the triangle's entries of the contact's own 3 x 3 block. ``(ptr, block columns,
+    slots)``: ``slots[p]`` the place of entry p among the values, nine per block, row-major;
+    the places no entry takes are zeros."""
     n = pp.size - 1
     nc = n // 3
-    bit = 1 if lower else 2
+    mark = np.full(nc, -1, np.int64)
     ptr = np.zeros(nc + 1, np.int32)
     for t in range(nc):
-        if not triples[t] & bit:
-            return ptr[:0], pi[:0], px[:0]
-        i = 3 * t
-        p = pp[i] if lower else pp[i + 2]
-        m = pp[i + 1] - pp[i] if lower else pp[i + 3] - pp[i + 2]
-        if m % 3:
-            return ptr[:0], pi[:0], px[:0]
-        for q in range(m // 3):
-            c = pi[p + 3 * q]
-            if c % 3 or pi[p + 3 * q + 1] != c + 1 or pi[p + 3 * q + 2] != c + 2:
-                return ptr[:0], pi[:0], px[:0]
-        ptr[t + 1] = ptr[t] + m // 3 + 1
+        m = 1
+        for p in range(pp[3 * t], pp[3 * t + 3]):
+            b = pi[p] // 3
+            if b != t and mark[b] != t:
+                mark[b] = t
+                m += 1
+        ptr[t + 1] = ptr[t] + m
     cols = np.empty(ptr[nc], np.int32)
-    vals = np.zeros(9 * ptr[nc])
-    first = np.empty(3, np.int64)
+    slots = np.empty(pp[n], np.int64)
+    place = np.empty(nc, np.int64)
+    mark[:] = -1
     for t in range(nc):
-        i = 3 * t
-        k = ptr[t]
-        if lower:
-            p0, p1, p2 = pp[i], pp[i + 1], pp[i + 2]
-            m = p1 - p0
-            first[0], first[1], first[2] = p0, p1, p2      # where each row's shared columns start
-        else:
-            p0, p1, p2 = pp[i], pp[i + 1], pp[i + 2]
-            m = pp[i + 3] - p2
-            cols[k] = t                         # U's diagonal block first
-            vals[9 * k + 1], vals[9 * k + 2], vals[9 * k + 5] = px[p0], px[p0 + 1], px[p1]
-            k += 1
-            first[0], first[1], first[2] = p0 + 2, p1 + 1, p2
-        for q in range(m // 3):
-            cols[k] = pi[first[0] + 3 * q] // 3
-            for r in range(3):
-                for c in range(3):
-                    vals[9 * k + 3 * r + c] = px[first[r] + 3 * q + c]
-            k += 1
-        if lower:                               # L's diagonal block last
-            cols[k] = t
-            vals[9 * k + 3], vals[9 * k + 6], vals[9 * k + 7] = px[p1 + m], px[p2 + m], px[p2 + m + 1]
-    return ptr, cols, vals
+        first = ptr[t] if lower else ptr[t] + 1
+        m = 0
+        for p in range(pp[3 * t], pp[3 * t + 3]):
+            b = pi[p] // 3
+            if b != t and mark[b] != t:
+                mark[b] = t
+                cols[first + m] = b
+                m += 1
+        cols[first:first + m].sort()
+        diag = ptr[t + 1] - 1 if lower else ptr[t]
+        cols[diag] = t
+        for k in range(ptr[t], ptr[t + 1]):
+            place[cols[k]] = k
+        for r in range(3):
+            for p in range(pp[3 * t + r], pp[3 * t + r + 1]):
+                j = pi[p]
+                b = j // 3
+                slots[p] = 9 * place[b] + 3 * r + j - 3 * b
+    return ptr, cols, slots
 
 
-def block_factors(arrays):
-    r"""The arrays of :func:`lu_solve` with L (and U where kept) in 3 x 3 blocks by contacts
-    (:func:`_blocks_of`), or ``arrays`` themselves where the factors are not made of whole
-    blocks. A block's nine values are read in one pass and its three entries of the solution
-    in one place, with one index for nine entries: one solve on an idle machine, blocks
-    against rows (L alone): the 3,970-sphere pile 473 against 1,189 µs, the 1,812 spheres 150
-    against 342, spheres-in-a-box 12.3 against 26.4, Box_Stacks 2.3 against 3.5; the same
-    bits."""
+#: The factors are solved in blocks (:func:`block_factors`) where the blocks' values, zeros
+#: included, are at most this many times the entries they hold (and six of each contact's
+#: diagonal block): the shared files' factors take 1.0-1.1 (contacts' rows of whole blocks);
+#: an ordering that does not keep a contact's rows together would take up to 9.
+BLOCK_FILL_MAX = 1.5
+
+
+def block_factors(arrays, patterns=None):
+    r"""``(arrays, patterns)``: the arrays of :func:`lu_solve` with L (and U where kept) in 3 x 3
+    blocks by contacts (:func:`block_pattern`; ``patterns``, the blocks of L's and U's
+    patterns, computed where not given), or ``arrays`` themselves where the blocks would hold
+    more than :data:`BLOCK_FILL_MAX` times the entries. A block's nine values are read in one
+    pass and its three entries of the solution in one place, with one index for nine entries:
+    one solve on an idle machine, blocks against rows (L alone): the 3,970-sphere pile 473
+    against 1,189 µs, the 1,812 spheres 150 against 342, spheres-in-a-box 12.3 against 26.4,
+    Box_Stacks 2.3 against 3.5; the same bits where each contact's rows share their columns
+    (:func:`contact_triples`), round-off apart elsewhere."""
     lp, li, lx, up, ui, ux, ud, rows, cols, triples = arrays
-    if ud.size % 3 or triples.size != ud.size // 3:
-        return arrays
-    bp, bc, bv = _blocks_of(lp, li, lx, True, triples)
-    if bp.size == 0:
-        return arrays
-    if up.size:
-        cp, cc, cv = _blocks_of(up, ui, ux, False, triples)
-        if cp.size == 0:
-            return arrays
-    else:
-        cp, cc, cv = up, ui, ux
-    return bp, bc, bv, cp, cc, cv, ud, rows, cols, triples
+    n = ud.size
+    if n % 3:
+        return arrays, None
+    if patterns is None:
+        patterns = (block_pattern(lp, li, True), None)
+    if up.size and patterns[1] is None:         # U kept: its blocks too
+        patterns = (patterns[0], block_pattern(up, ui, False))
+    bp, bc, bs = patterns[0]
+    blocks = bc.size + (patterns[1][1].size if up.size else 0)
+    if 9 * blocks > BLOCK_FILL_MAX * (lx.size + ux.size + 2 * n):
+        return arrays, patterns
+    bv = np.zeros(9 * bc.size)
+    bv[bs] = lx
+    if not up.size:
+        return (bp, bc, bv, up, ui, ux, ud, rows, cols, triples), patterns
+    cp, cc, cs = patterns[1]
+    cv = np.zeros(9 * cc.size)
+    cv[cs] = ux
+    return (bp, bc, bv, cp, cc, cv, ud, rows, cols, triples), patterns
 
 
 @njit(cache=True)
