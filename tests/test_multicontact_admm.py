@@ -8,6 +8,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import scipy.sparse as sp
+from hypothesis import given
+from hypothesis import strategies as st
 
 from frictionrules import FrictionContactProblem
 from frictionrules.multicontact import _admm_steps as S
@@ -505,6 +507,40 @@ def test_block_factors_fill_partial_blocks_with_zeros(monkeypatch):
     scattered = (lp, li, np.ones(li.size), up, ui, np.ones(0), np.ones(3 * nc), np.arange(3 * nc),
                  np.arange(3 * nc), T.contact_triples(lp, li, up, ui))
     assert T.block_factors(scattered)[0] is scattered
+
+
+@given(nc=st.integers(1, 12), density=st.floats(0.0, 1.0), seed=st.integers(0, 2**32 - 1),
+       symmetric=st.booleans())
+def test_block_solve_is_a_dense_solve(nc, density, seed, symmetric):
+    """Any unit lower L and upper U (or U = D L^T: L alone), of any pattern, solved in blocks
+    (:func:`block_factors`, every fill let through), and in rows: each a solution of the dense
+    ``(L U) x = b`` with rows and columns permuted, its residual at round-off of the
+    triangular solves (whatever the conditioning of the draw)."""
+    rng = np.random.default_rng(seed)
+    n = 3 * nc
+    keep = rng.random((n, n)) < density
+    Ld = np.tril(np.where(keep, rng.uniform(-0.5, 0.5, (n, n)), 0.0), -1)
+    d = rng.uniform(1.0, 2.0, n) * rng.choice([-1.0, 1.0], n)
+    Ud = np.diag(d) @ Ld.T if symmetric else np.triu(np.where(keep.T, rng.uniform(-0.5, 0.5, (n, n)), 0.0), 1)
+    L, U = sp.csr_matrix(Ld), sp.csr_matrix(Ud)
+    rows, cols = rng.permutation(n), rng.permutation(n)
+    arrays = (L.indptr.astype(np.int32), L.indices.astype(np.int32), L.data, U.indptr.astype(np.int32),
+              U.indices.astype(np.int32), U.data, d, rows, cols,
+              T.contact_triples(L.indptr, L.indices, U.indptr, U.indices))
+    if symmetric:
+        arrays = arrays[:3] + (arrays[3][:0], arrays[4][:0], arrays[5][:0]) + arrays[6:]
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(T, "BLOCK_FILL_MAX", 1e9)
+        blocks, _ = T.block_factors(arrays)
+    assert blocks[0].size == nc + 1
+    b = rng.normal(size=n)
+    A = (np.eye(n) + Ld) @ (Ud + np.diag(d) if not symmetric else np.diag(d) + np.diag(d) @ Ld.T)
+    B = np.empty((n, n))                            # L U = B, B_ij = A'_{rows_i cols_j}
+    B[np.ix_(rows, cols)] = A
+    Ua = np.abs(Ud) + np.diag(np.abs(d)) if not symmetric else np.diag(np.abs(d)) @ (np.eye(n) + np.abs(Ld.T))
+    bound = 10 * n * np.finfo(float).eps * ((np.eye(n) + np.abs(Ld)) @ Ua).sum(axis=1).max()
+    for x in (T.lu_solve(*blocks, b), T.lu_solve(*arrays, b)):   # backward stable: |r| <~ n eps |L||U||x|
+        assert np.abs(B @ x - b).max() <= bound * np.abs(x).max() + 1e-15 * np.abs(b).max()
 
 
 def test_contact_triples_need_the_shared_columns():
