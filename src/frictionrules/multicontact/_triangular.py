@@ -218,6 +218,23 @@ def block_factors(arrays, patterns=None):
     return (bp, bc, bv, cp, cc, cv, ud, rows, cols, triples), patterns
 
 
+@njit(cache=True, inline="always")
+def _minus_block(vals, q, y, s, a0, a1, a2):
+    """``a - B y[s:s + 3]``, B the block of nine values from ``vals[q]`` (row-major), each
+    row's terms in the order of its columns."""
+    y0, y1, y2 = y[s], y[s + 1], y[s + 2]
+    a0 -= vals[q] * y0
+    a1 -= vals[q + 3] * y0
+    a2 -= vals[q + 6] * y0
+    a0 -= vals[q + 1] * y1
+    a1 -= vals[q + 4] * y1
+    a2 -= vals[q + 7] * y1
+    a0 -= vals[q + 2] * y2
+    a1 -= vals[q + 5] * y2
+    a2 -= vals[q + 8] * y2
+    return a0, a1, a2
+
+
 @njit(cache=True)
 def _block_solve(bp, bc, bv, cp, cc, cv, ud, rows, cols, b):
     """:func:`lu_solve` on factors in 3 x 3 blocks (:func:`block_factors`; ``cp`` empty: U
@@ -231,18 +248,7 @@ def _block_solve(bp, bc, bv, cp, cc, cv, ud, rows, cols, b):
         a0, a1, a2 = b[rows[i]], b[rows[i + 1]], b[rows[i + 2]]
         last = bp[t + 1] - 1
         for k in range(bp[t], last):
-            s = 3 * bc[k]
-            y0, y1, y2 = y[s], y[s + 1], y[s + 2]
-            q = 9 * k
-            a0 -= bv[q] * y0
-            a1 -= bv[q + 3] * y0
-            a2 -= bv[q + 6] * y0
-            a0 -= bv[q + 1] * y1
-            a1 -= bv[q + 4] * y1
-            a2 -= bv[q + 7] * y1
-            a0 -= bv[q + 2] * y2
-            a1 -= bv[q + 5] * y2
-            a2 -= bv[q + 8] * y2
+            a0, a1, a2 = _minus_block(bv, 9 * k, y, 3 * bc[k], a0, a1, a2)
         q = 9 * last
         y[i] = a0
         a1 -= bv[q + 3] * a0
@@ -276,18 +282,7 @@ def _block_solve(bp, bc, bv, cp, cc, cv, ud, rows, cols, b):
         a0, a1, a2 = y[i], y[i + 1], y[i + 2]
         first = cp[t]
         for k in range(first + 1, cp[t + 1]):
-            s = 3 * cc[k]
-            y0, y1, y2 = y[s], y[s + 1], y[s + 2]
-            q = 9 * k
-            a0 -= cv[q] * y0
-            a1 -= cv[q + 3] * y0
-            a2 -= cv[q + 6] * y0
-            a0 -= cv[q + 1] * y1
-            a1 -= cv[q + 4] * y1
-            a2 -= cv[q + 7] * y1
-            a0 -= cv[q + 2] * y2
-            a1 -= cv[q + 5] * y2
-            a2 -= cv[q + 8] * y2
+            a0, a1, a2 = _minus_block(cv, 9 * k, y, 3 * cc[k], a0, a1, a2)
         q = 9 * first
         y[i + 2] = a2 / ud[i + 2]
         y[i + 1] = (a1 - cv[q + 5] * y[i + 2]) / ud[i + 1]
