@@ -7,9 +7,10 @@ quadratic part in x and the cone in y, with the correction :math:`s = \mu(1 - d)
 taken from the current dual variable z (the velocity estimate); see :class:`ADMMOptions` for
 the iteration. :math:`W + (\rho + \eta) I` is factorized once per value of :math:`\rho` (sparse
 LU after a minimum-degree ordering of the contacts, :mod:`._ordering`, refilled on its pattern
-for a new :math:`\rho`, as :math:`L D L^T` from the lower triangle where W is symmetric; dense
-LU on small problems; kept on the frame, so that a value of :math:`\rho` met again, or another ADMM stage
-of ``"auto"``, costs no new factorization), so an iteration costs two triangular solves, one
+for a new :math:`\rho`, as :math:`L D L^T` from the lower triangle where W is symmetric, kept
+in 3 x 3 blocks by contacts, :mod:`._triangular`; dense LU on small problems; kept on the
+frame, so that a value of :math:`\rho` met again, or another ADMM stage of ``"auto"``, costs
+no new factorization), so an iteration costs two triangular solves, one
 product with W where Siconos' error is measured (at intervals, :attr:`ADMMOptions.max_check_interval`)
 and O(nc), the latter compiled (:mod:`._admm_steps`).
 
@@ -73,7 +74,8 @@ def _product(fr: _Frame):
 #: compiled against SuperLU: Spheres (6.8 per unknown) 17 against 58 µs, Capsules (13.9) 20
 #: against 62, the 1,264 boxes (22.9) 89 against 219, spheres-in-a-box (45) 30 against 87, the
 #: 1,812 spheres (91) 535 against 590; the 3,970 spheres (135) 2,850 against 2,630 (1,170
-#: from L alone, :data:`SYMMETRIC_MIN_ENTRIES`), KaplasTower (167) 310 against 226. The compiled loop also measures the error at intervals
+#: from L alone, :data:`SYMMETRIC_MIN_ENTRIES`; 473 in blocks, :func:`._triangular.block_factors`),
+#: KaplasTower (167) 310 against 226. The compiled loop also measures the error at intervals
 #: (one product with W, not one per iteration) and runs no Python per iteration: ADMM's
 #: marginal cost on the 3,970 spheres 3,070 µs an iteration with the compiled solves against
 #: 3,440 with SuperLU's (two interleaved pairs, under load); KaplasTower's 520-595 against
@@ -163,8 +165,8 @@ class _Factor:
             lp, li, up, ui, rows, cols, triples, bp, bi, bx, refactor = pattern
             lx, ux, ud, ok = refactor(bp, bi, bx, c, lp, li, up, ui)
             if ok:
-                self.arrays, fr.cache["admm_blocks"] = T.block_factors(
-                    _symmetric((lp, li, lx, up, ui, ux, ud, rows, cols, triples)), fr.cache.get("admm_blocks"))
+                factors = _symmetric((lp, li, lx, up, ui, ux, ud, rows, cols, triples))
+                self.arrays, fr.cache["admm_blocks"] = T.block_factors(factors, fr.cache.get("admm_blocks"))
                 self._test_solve()
                 return
         import scipy.sparse as sp

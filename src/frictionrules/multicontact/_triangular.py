@@ -2,8 +2,10 @@ r"""Triangular factors of :math:`W + cI` for ADMM (:mod:`._admm`) as CSR arrays,
 compiled solves.
 
 The factors come from SciPy's SuperLU (:func:`csr_factors`), LAPACK's dense LU
-(:func:`dense_factors`) or an earlier pattern refilled (:func:`lu_refactor`); where W is
-symmetric, U is dropped for :math:`D L^T` (:func:`symmetric_form`).
+(:func:`dense_factors`) or an earlier pattern refilled (:func:`lu_refactor`, or
+:func:`symmetric_refactor` from the lower triangle where W is symmetric); where W is symmetric,
+U may be dropped for :math:`D L^T` (:func:`symmetric_form`); and they are solved in 3 x 3 blocks
+by contacts where the blocks hold them without many zeros (:func:`block_factors`).
 """
 
 from __future__ import annotations
