@@ -187,6 +187,7 @@ def test_refactorization_on_the_pattern_is_a_dense_solve(monkeypatch, nonsymmetr
     if nonsymmetric == 0.0:                         # the lower triangle alone: the same factors
         sx, sux, sud, ok = T.symmetric_refactor(bp, bi, bx, 0.1, lp, li, up, ui)
         assert ok
+        assert T.symmetric_form(lp, li, sx, up, ui, sux, sud)   # U = D L^T as built: no check owed
         for a, b in ((sx, lx), (sux, ux), (sud, ud)):
             np.testing.assert_allclose(a, b, rtol=1e-9, atol=1e-13 * np.abs(b).max())
     else:                                           # B's pattern is symmetric, its values not
