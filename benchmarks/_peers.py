@@ -94,7 +94,8 @@ import numpy as np
 import scipy.sparse as sp
 import pinocchio as pin
 data = np.load(sys.argv[1])
-solver, max_iter, tol = sys.argv[2], int(sys.argv[3]), float(sys.argv[4])
+solver, tol = sys.argv[2], float(sys.argv[4])
+budgets = [int(k) for k in sys.argv[3].split(",")]      # several: run in turn, in pairs
 n = int(data["n"]); nc = n // 3
 W = sp.csc_matrix((data["x"], data["i"].astype(np.int64), data["p"].astype(np.int64)), shape=(n, n))
 q, mu = data["q"], data["mu"]
@@ -110,7 +111,8 @@ for a in range(nc):
     models.append(c)
     datas.append(c.createData())
 times, spent, last = [], 0.0, None
-while len(times) < REPEATS_MAX and (not times or spent < REPEAT_SECONDS):
+while len(times) % len(budgets) or (len(times) < REPEATS_MAX and (not times or spent < REPEAT_SECONDS)):
+    max_iter = budgets[len(times) % len(budgets)]
     if solver.startswith("ADMM"):
         G = pin.DelassusOperatorSparse(Wp) if solver == "ADMM" else pin.DelassusOperatorDense(Wp.toarray())
         s, st, res = pin.ADMMConstraintSolver(n), pin.ADMMSolverSettings(), pin.ADMMSolverResult()
@@ -165,11 +167,12 @@ def save_problem(problem, path: Path) -> Path:
     return path
 
 
-def run_peer(python: str, runner: str, data: Path, solver: str, max_iter: int, tol: float, tmp: Path,
+def run_peer(python: str, runner: str, data: Path, solver: str, max_iter: int | str, tol: float, tmp: Path,
              timeout: float) -> dict:
     """One peer run in a subprocess: ``{info, iterations, times, peak_mb, r}`` (``times``: the
     CPU seconds of each repetition of the solver call); ``r`` is None (and ``info`` says why)
-    when it crashed or ran out of time."""
+    when it crashed or ran out of time. Pinocchio's runner also takes budgets as ``"K1,K2"``:
+    repetitions with each in turn (``times`` in that order, whole pairs)."""
     rfile = tmp / "r.npy"
     rfile.unlink(missing_ok=True)
     env = dict(os.environ, **SINGLE_THREAD)

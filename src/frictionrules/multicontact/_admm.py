@@ -213,12 +213,12 @@ class _Factor:
         return T.lu_solve(*self.arrays, b)
 
     def _test_solve(self):
-        """The test solve of :meth:`_refines`, compiled, at the factorization: ADMM's next
-        iteration then runs in the compiled loop (two iterations ran in Python after each new
-        factorization otherwise, 0.1-0.3 ms); nothing is kept."""
-        from . import _triangular as T
-        t = _test_rhs(self.fr)
-        self.refine = self._refines(T.lu_solve(*self.arrays, t), t)
+        """The test solve of :meth:`_refines`, compiled (:func:`._admm_steps.refines`, one
+        call: 10-30 µs of Python at each change of ρ on local_problem_test before), at the
+        factorization: ADMM's next iteration then runs in the compiled loop (two iterations ran
+        in Python after each new factorization otherwise, 0.1-0.3 ms); nothing is kept."""
+        from . import _admm_steps as S
+        self.refine = bool(S.refines(*self.arrays, self.c, *_compiled_w(self.fr), _test_rhs(self.fr)))
         self.first = False
 
     def _refines(self, x, b) -> bool:
@@ -274,20 +274,23 @@ class _Anderson:
         self.state[:] = 0
 
     def buffers(self, size: int):
-        """``(prev_v, prev_tv, dG, dF, gram, state)``: the memory, as the compiled loop
-        (:func:`._admm_steps.admm_loop`) takes it."""
+        """``(prev_f, prev_tv, dG, dF, gram, small, state)``: the memory, as the compiled loop
+        (:func:`._admm_steps.admm_loop`) takes it (``small``: the scratch of the m x m
+        system)."""
         if self.dG is None:
             self.dG, self.dF = np.empty((self.m, size)), np.empty((self.m, size))
-            self.gram = np.empty((self.m, self.m))
-            self.prev_v, self.prev_tv = np.empty(size), np.empty(size)
-        return self.prev_v, self.prev_tv, self.dG, self.dF, self.gram, self.state
+            self.gram, self.small = np.empty((self.m, self.m)), np.empty((self.m + 2, self.m))
+            self.prev_f, self.prev_tv = np.empty(size), np.empty(size)
+        return self.prev_f, self.prev_tv, self.dG, self.dF, self.gram, self.small, self.state
 
     def step(self, v, tv):
         """``(next, extrapolated)``: the extrapolated next iterate from ``v`` and ``T(v)``, or
         ``T(v)`` itself (``extrapolated`` false) at first and where the extrapolation is not
         finite."""
         from . import _admm_steps as S
-        return S.anderson_update(v, tv, *self.buffers(v.size))
+        out = np.array(v, dtype=float)
+        extrapolated = S.anderson_update(out, tv, *self.buffers(v.size))
+        return (out if extrapolated else tv), extrapolated
 
 
 def _symmetric(arrays, built=False):
@@ -416,7 +419,7 @@ def run_admm(fr: _Frame, r, max_iter: int, mon: _Monitor, opts: ADMMOptions):
     compiled = mon.callback is None and mon.handover is None
     memory = anderson.buffers(2 * n) if anderson is not None else (
         np.empty(0), np.empty(0), np.empty((0, 2 * n)), np.empty((0, 2 * n)), np.empty((0, 0)),
-        np.zeros(2, np.int64))
+        np.empty((0, 0)), np.zeros(2, np.int64))
     limits = np.array([mon.tol, fr.r_bound, opts.ratio_primal_dual, max_iter, opts.rho_update_every,
                        opts.anderson_pause, opts.max_check_interval, opts.rho_min * L, opts.rho_max * L, step,
                        opts.rho_levels_max,
@@ -445,8 +448,9 @@ def run_admm(fr: _Frame, r, max_iter: int, mon: _Monitor, opts: ADMMOptions):
                 factor = _factor(fr, rho + eta)
             continue
         it += 1
-        x_new = factor.solve(S.x_step_rhs(q, v[:n], x, v[n:], mu, d, rho, eta, s))
-        tv, res, primal, dual = S.y_z_steps(x_new, x, v, mu, rho, eta)
+        x_new = factor.solve(S.x_step_rhs(q, v[:n], x, v[n:], mu, d, rho, eta, s, np.empty(n)))
+        tv = np.empty(2 * n)
+        res, primal, dual = S.y_z_steps(x_new, x, v, mu, rho, eta, tv)
         if extrapolated and res > safe_res:   # the extrapolation did not pay: back to the plain step
             anderson.clear()
             v, extrapolated = safe_v, False

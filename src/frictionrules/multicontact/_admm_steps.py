@@ -19,48 +19,70 @@ import numpy as np
 
 from .._optional import require
 from . import _kernels as K
-from ._triangular import lu_solve
+from ._triangular import lu_solve, lu_solve_into
 
 njit = require("numba", extra="kernels").njit
 
 
 @njit(cache=True)
-def x_step_rhs(q, y, x, z, mu, dil, rho, eta, s):
+def x_step_rhs(q, y, x, z, mu, dil, rho, eta, s, b):
     r"""De Saxcé's correction ``s`` of the dual variable z (into ``s``) and the right-hand
-    side :math:`-(q + s) + \rho y + \eta x + z` of the x-step."""
+    side :math:`-(q + s) + \rho y + \eta x + z` of the x-step (into ``b``, returned)."""
     K.desaxce_shift(z, mu, dil, s)
-    b = np.empty(q.size)
     for i in range(q.size):
         b[i] = -(q[i] + s[i]) + rho * y[i] + eta * x[i] + z[i]
     return b
 
 
 @njit(cache=True)
-def factor_solve(lp, li, lx, up, ui, ux, ud, rows, cols, triples, refine, shift, wp, wi, wx, blocks, b):
-    r""":func:`lu_solve`, then, when ``refine``, one step of iterative refinement with
+def factor_solve(lp, li, lx, up, ui, ux, ud, rows, cols, triples, refine, shift, wp, wi, wx, blocks, b, scratch,
+                 x):
+    r""":func:`._triangular.lu_solve_into` (into ``x``, returned; ``scratch`` of b's size),
+    then, when ``refine``, one step of iterative refinement with
     :math:`A = W + \text{shift}\,I` (W's CSR arrays, by 3 x 3 blocks when ``blocks``):
     :math:`x \leftarrow x - A^{-1}(A x - b)`."""
-    x = lu_solve(lp, li, lx, up, ui, ux, ud, rows, cols, triples, b)
+    lu_solve_into(lp, li, lx, up, ui, ux, ud, rows, cols, triples, b, scratch, x)
     if refine:
         c = shift * x - b
         r = block_matvec(wp, wi, wx, x, c) if blocks else K.csr_matvec(wp, wi, wx, x, c)
-        x = x - lu_solve(lp, li, lx, up, ui, ux, ud, rows, cols, triples, r)
+        x -= lu_solve(lp, li, lx, up, ui, ux, ud, rows, cols, triples, r)
     return x
 
 
 @njit(cache=True)
+def refines(lp, li, lx, up, ui, ux, ud, rows, cols, triples, shift, wp, wi, wx, blocks, t):
+    r"""Whether solves with these factors of :math:`A = W + \text{shift}\,I` take a step of
+    iterative refinement (:meth:`._admm._Factor._refines`, in one compiled call): the solve of
+    :math:`A x = t` misses :math:`10^{-12}` relative residual and one step at least halves
+    it."""
+    x = lu_solve(lp, li, lx, up, ui, ux, ud, rows, cols, triples, t)
+    r = block_matvec(wp, wi, wx, x, shift * x - t) if blocks else K.csr_matvec(wp, wi, wx, x, shift * x - t)
+    res = np.sqrt(np.dot(r, r))
+    if not res > 1e-12 * np.sqrt(np.dot(t, t)):
+        return False
+    x = x - lu_solve(lp, li, lx, up, ui, ux, ud, rows, cols, triples, r)
+    r = block_matvec(wp, wi, wx, x, shift * x - t) if blocks else K.csr_matvec(wp, wi, wx, x, shift * x - t)
+    return np.sqrt(np.dot(r, r)) <= 0.5 * res
+
+
+@njit(cache=True)
 def admm_iteration(lp, li, lx, up, ui, ux, ud, rows, cols, triples, refine, shift, wp, wi, wx, blocks,
-                   q, mu, dil, rho, eta, x, v, s, norm_q, measure):
+                   q, mu, dil, rho, eta, x, v, s, norm_q, measure, work):
     r"""One whole iteration from ``v = (y, z)`` and the last x-step's ``x``: the x-step
     :math:`x_{new} = (W + (\rho + \eta) I)^{-1}(-(q + s) + \rho y + \eta x + z)`
     (:func:`x_step_rhs`, :func:`factor_solve`; ``shift`` :math:`= \rho + \eta`), then
     :func:`y_z_steps` and, when ``measure``, the error of the new y (:func:`residual_error`;
-    NaN otherwise). Returns ``(x_new, tv, res, primal, dual, err)``."""
-    b = x_step_rhs(q, v[:q.size], x, v[q.size:], mu, dil, rho, eta, s)
-    x_new = factor_solve(lp, li, lx, up, ui, ux, ud, rows, cols, triples, refine, shift, wp, wi, wx, blocks, b)
-    tv, res, primal, dual = y_z_steps(x_new, x, v, mu, rho, eta)
-    err = residual_error(wp, wi, wx, blocks, q, mu, dil, tv[:q.size], norm_q) if measure else np.nan
-    return x_new, tv, res, primal, dual, err
+    NaN otherwise). ``work`` (5 n): the right-hand side, the solve's scratch, ``x_new``
+    (``work[2n:3n]``) and ``tv`` (``work[3n:]``), so that no array is allocated. Returns
+    ``(res, primal, dual, err)``."""
+    n = q.size
+    b = x_step_rhs(q, v[:n], x, v[n:], mu, dil, rho, eta, s, work[:n])
+    x_new = factor_solve(lp, li, lx, up, ui, ux, ud, rows, cols, triples, refine, shift, wp, wi, wx, blocks, b,
+                         work[n:2 * n], work[2 * n:3 * n])
+    tv = work[3 * n:]
+    res, primal, dual = y_z_steps(x_new, x, v, mu, rho, eta, tv)
+    err = residual_error(wp, wi, wx, blocks, q, mu, dil, tv[:n], norm_q) if measure else np.nan
+    return res, primal, dual, err
 
 
 @njit(cache=True)
@@ -74,116 +96,158 @@ def residual_error(wp, wi, wx, blocks, q, mu, dil, r, norm_q):
     return e / scale if scale > np.finfo(np.float64).eps else e
 
 
+@njit(cache=True, inline="always")
+def _z_entry(i, y_new, x_new, x, v, tv, rho, eta, n):
+    """Entry i of the z-step (into ``tv[n + i]``): the primal and dual residuals' entries and
+    the entry's two squares of :math:`|T(v) - v|^2`, summed."""
+    tv[n + i] = v[n + i] - rho * (x_new[i] - y_new)
+    dz = tv[n + i] - v[n + i]
+    dy = y_new - v[i]
+    return abs(x_new[i] - y_new), abs(rho * dy + eta * (x_new[i] - x[i])), dy * dy + dz * dz
+
+
 @njit(cache=True)
-def y_z_steps(x_new, x, v, mu, rho, eta):
+def y_z_steps(x_new, x, v, mu, rho, eta, tv):
     r"""From the x-step's ``x_new`` (``x`` the previous one, ``v = (y, z)``): the next
-    :math:`(y, z)` as one array, :math:`y = P_K(x_{new} - z/\rho)`,
+    :math:`(y, z)` into ``tv``, :math:`y = P_K(x_{new} - z/\rho)`,
     :math:`z - \rho (x_{new} - y)`; the fixed-point residual :math:`|T(v) - v|`, the primal
     residual :math:`|x_{new} - y|_\infty` and the dual one
-    :math:`|\rho\,\Delta y + \eta\,\Delta x|_\infty` (NaN when an entry is)."""
+    :math:`|\rho\,\Delta y + \eta\,\Delta x|_\infty` (NaN when an entry is). The cone's
+    argument is formed in ``tv[n:]`` (a pass of divisions the processor vectorizes), then the
+    z-step and the residuals by contacts, a contact's three squares summed together."""
     n = x_new.size
-    tv = np.empty(2 * n)
-    w = np.empty(n)
+    w = tv[n:]                              # the cone's argument, then z
     for i in range(n):
         w[i] = x_new[i] - v[n + i] / rho
     K.project_all(w, mu, tv[:n])
     res, primal, dual, nan = 0.0, 0.0, 0.0, False
-    for i in range(n):
-        y_new = tv[i]
-        tv[n + i] = v[n + i] - rho * (x_new[i] - y_new)
-        p = abs(x_new[i] - y_new)
-        d = abs(rho * (y_new - v[i]) + eta * (x_new[i] - x[i]))
-        nan = nan or np.isnan(p) or np.isnan(d)
+    for a in range(mu.size):
+        i = 3 * a
+        y0, y1, y2 = tv[i], tv[i + 1], tv[i + 2]
+        p0, d0, r0 = _z_entry(i, y0, x_new, x, v, tv, rho, eta, n)
+        p1, d1, r1 = _z_entry(i + 1, y1, x_new, x, v, tv, rho, eta, n)
+        p2, d2, r2 = _z_entry(i + 2, y2, x_new, x, v, tv, rho, eta, n)
+        p, d = max(p0, p1, p2), max(d0, d1, d2)
+        nan = nan or np.isnan(p0 + p1 + p2) or np.isnan(d0 + d1 + d2)
         primal, dual = max(primal, p), max(dual, d)
-        res += (y_new - v[i]) ** 2 + (tv[n + i] - v[n + i]) ** 2
+        res += (r0 + r1) + r2
     if nan:
         primal = dual = np.nan
-    return tv, np.sqrt(res), primal, dual
+    return np.sqrt(res), primal, dual
+
+
+@njit(cache=True, fastmath={"reassoc", "contract"})
+def _dots(a, b, row):
+    r""":math:`(a \cdot r, b \cdot r)` in one pass over ``row``, each summed in any order
+    (vectorized: the sums of Anderson's normal equations, which NumPy's dot also sums in
+    BLAS's order)."""
+    sa = sb = 0.0
+    for i in range(row.size):
+        sa += a[i] * row[i]
+        sb += b[i] * row[i]
+    return sa, sb
+
+
+@njit(cache=True, fastmath={"reassoc", "contract"})
+def _minus_rows(out, dG, gamma, j, count):
+    """``out -= gamma_j dG_j (+ gamma_{j+1} dG_{j+1})`` (``count`` rows, 1 or 2, in one pass);
+    whether every entry of ``out`` is finite after (``x - x`` is 0 for a finite x and NaN
+    otherwise, summed in any order: no overflow)."""
+    acc = 0.0
+    g0, r0 = gamma[j], dG[j]
+    if count == 2:
+        g1, r1 = gamma[j + 1], dG[j + 1]
+        for i in range(out.size):
+            out[i] -= g0 * r0[i] + g1 * r1[i]
+            acc += out[i] - out[i]
+    else:
+        for i in range(out.size):
+            out[i] -= g0 * r0[i]
+            acc += out[i] - out[i]
+    return acc == 0.0
 
 
 @njit(cache=True)
-def anderson_step(v, tv, prev_v, prev_tv, dG, dF, gram, slot, used):
+def anderson_step(v, tv, prev_f, prev_tv, dG, dF, gram, small, slot, used):
     r"""Type-II Anderson's extrapolation :math:`T(v) - \gamma G` with
     :math:`(F F^T + 10^{-14} \mathrm{tr}(F F^T) I)\,\gamma = F (T(v) - v)`, F and G the first
     ``used`` rows of ``dF`` and ``dG``, after writing the newest differences into their row
-    ``slot``: :math:`\Delta G = T(v) - T(v')`, :math:`\Delta F = (T(v) - v) - (T(v') - v')`.
+    ``slot``: :math:`\Delta G = T(v) - T(v')`, :math:`\Delta F = (T(v) - v) - (T(v') - v')`,
+    and keeping :math:`T(v) - v` and :math:`T(v)` in ``prev_f`` and ``prev_tv`` for the next
+    step. The result is written into ``v``: the extrapolation, or ``tv`` itself where the
+    system or the result is not finite (then False is returned).
 
-    Two passes over the memory: :math:`F F^T` is kept in ``gram`` (only its row and column
-    ``slot`` are new) and the m x m system is solved by Gaussian elimination with partial
-    pivoting (m is small). Returns ``(out, extrapolated)``: ``tv`` itself and False where the
-    system or the result is not finite."""
+    No array is allocated (``small``: m + 2 rows of scratch for the m x m system).
+    :math:`F F^T` is kept in ``gram`` (only its row and column ``slot`` are new) and the
+    system is solved by Gaussian elimination with partial pivoting (m is small)."""
     n = v.size
-    f = np.empty(n)
+    fs = dF[slot]
     for i in range(n):
-        f[i] = tv[i] - v[i]
+        f = tv[i] - v[i]
         dG[slot, i] = tv[i] - prev_tv[i]
-        dF[slot, i] = f[i] - (prev_tv[i] - prev_v[i])
-    b = np.empty(used)
-    row = np.empty(used)
-    for j in range(used):                   # contiguous dot products (BLAS)
-        row[j] = np.dot(dF[slot], dF[j])
-        b[j] = np.dot(dF[j], f)
+        fs[i] = f - prev_f[i]
+        prev_f[i] = f
+        prev_tv[i] = tv[i]
+    A, b, gamma = small[:used], small[used], small[used + 1]
     for j in range(used):
-        gram[slot, j] = gram[j, slot] = row[j]
+        gram[slot, j], b[j] = _dots(fs, prev_f, dF[j])
+        gram[j, slot] = gram[slot, j]
     tr = 0.0
     for j in range(used):
         tr += gram[j, j]
     ok = np.isfinite(tr) and tr > 0.0
     for j in range(used):
         ok = ok and np.isfinite(b[j])
-    if not ok:
-        return tv, False                    # NumPy's solve raised or returned NaN here
-    A = np.empty((used, used))
-    for j in range(used):
-        for k in range(used):
-            A[j, k] = gram[j, k]
-        A[j, j] += 1e-14 * tr
-    for k in range(used):                   # elimination with partial pivoting
-        p = k
-        for j in range(k + 1, used):
-            if abs(A[j, k]) > abs(A[p, k]):
-                p = j
-        if p != k:
-            for c in range(used):
-                A[k, c], A[p, c] = A[p, c], A[k, c]
-            b[k], b[p] = b[p], b[k]
-        for j in range(k + 1, used):
-            m = A[j, k] / A[k, k]
-            for c in range(k, used):
-                A[j, c] -= m * A[k, c]
-            b[j] -= m * b[k]
-    gamma = np.empty(used)
-    for k in range(used - 1, -1, -1):
-        acc = b[k]
-        for c in range(k + 1, used):
-            acc -= A[k, c] * gamma[c]
-        gamma[k] = acc / A[k, k]
-    out = tv.copy()
-    for j in range(used):
-        g = gamma[j]
-        for i in range(n):
-            out[i] -= g * dG[j, i]
-    for i in range(n):
-        if not np.isfinite(out[i]):
-            return tv, False
-    return out, True
+    if ok:
+        for j in range(used):
+            for k in range(used):
+                A[j, k] = gram[j, k]
+            A[j, j] += 1e-14 * tr
+        for k in range(used):               # elimination with partial pivoting
+            p = k
+            for j in range(k + 1, used):
+                if abs(A[j, k]) > abs(A[p, k]):
+                    p = j
+            if p != k:
+                for c in range(used):
+                    A[k, c], A[p, c] = A[p, c], A[k, c]
+                b[k], b[p] = b[p], b[k]
+            for j in range(k + 1, used):
+                m = A[j, k] / A[k, k]
+                for c in range(k, used):
+                    A[j, c] -= m * A[k, c]
+                b[j] -= m * b[k]
+        for k in range(used - 1, -1, -1):
+            acc = b[k]
+            for c in range(k + 1, used):
+                acc -= A[k, c] * gamma[c]
+            gamma[k] = acc / A[k, k]
+        v[:] = tv
+        for j in range(0, used, 2):             # two rows a pass: half the passes over v
+            ok = _minus_rows(v, dG, gamma, j, min(used - j, 2))
+        if ok:
+            return True
+    v[:] = tv                               # NumPy's solve raised or returned NaN here
+    return False
 
 
 @njit(cache=True)
-def anderson_update(v, tv, prev_v, prev_tv, dG, dF, gram, state):
-    """Anderson's step of :class:`._admm._Anderson` (its memory as arrays; ``state`` = (steps
-    in memory, whether ``prev_v``, ``prev_tv`` hold the last pair)): ``(tv, False)`` at first,
-    :func:`anderson_step` after; the pair ``(v, tv)`` is kept for the next step."""
+def anderson_update(v, tv, prev_f, prev_tv, dG, dF, gram, small, state):
+    """Anderson's step of :class:`._admm._Anderson` in place (its memory as arrays; ``state``
+    = (steps in memory, whether ``prev_f``, ``prev_tv`` hold the last step)): ``v`` becomes
+    ``tv`` at first, the result of :func:`anderson_step` after. Returns whether ``v`` is
+    extrapolated."""
     m = dG.shape[0]
-    out, extrapolated = tv, False
     if state[1]:
         slot = state[0] % m
         state[0] += 1
-        out, extrapolated = anderson_step(v, tv, prev_v, prev_tv, dG, dF, gram, slot, min(state[0], m))
-    prev_v[:] = v
-    prev_tv[:] = tv
+        return anderson_step(v, tv, prev_f, prev_tv, dG, dF, gram, small, slot, min(state[0], m))
+    for i in range(v.size):
+        prev_f[i] = tv[i] - v[i]
+        prev_tv[i] = tv[i]
+        v[i] = tv[i]
     state[1] = 1
-    return out, extrapolated
+    return False
 
 
 @njit(cache=True)
@@ -280,8 +344,8 @@ def rho_streak(streak, change, consecutive):
 
 @njit(cache=True)
 def admm_loop(lp, li, lx, up, ui, ux, ud, rows, cols, triples, refine, wp, wi, wx, blocks, q, mu, dil, norm_q,
-              rho, eta, x, v, s, safe_v, y, best_r, prev_v, prev_tv, dG, dF, gram, astate, ints, floats,
-              limits, errs, its):
+              rho, eta, x, v, s, safe_v, y, best_r, prev_f, prev_tv, dG, dF, gram, small, astate, ints,
+              floats, limits, errs, its):
     r"""ADMM's iterations (:func:`._admm.run_admm`) at one value of :math:`\rho`, compiled,
     each by :func:`admm_iteration`, until one of: ``limits[3]`` (max_iter) iterations in all,
     ``errs.size`` iterations in this call, an error at most ``limits[0]`` (tol), not finite,
@@ -318,12 +382,14 @@ def admm_loop(lp, li, lx, up, ui, ux, ud, rows, cols, triples, refine, wp, wi, w
     first = it
     hist_err, hist_it = np.empty(2), np.empty(2, np.int64)
     count, change = 0, 0
+    work = np.empty(5 * n)
+    x_new, tv = work[2 * n:3 * n], work[3 * n:]
     while it < max_iter and it - first < errs.size:
         it += 1
         measure = it >= next_check or it >= max_iter or it - first >= errs.size
-        x_new, tv, res, primal, dual, err = admm_iteration(lp, li, lx, up, ui, ux, ud, rows, cols, triples, refine,
-                                                           rho + eta, wp, wi, wx, blocks, q, mu, dil, rho,
-                                                           eta, x, v, s, norm_q, measure)
+        res, primal, dual, err = admm_iteration(lp, li, lx, up, ui, ux, ud, rows, cols, triples, refine, rho + eta,
+                                                wp, wi, wx, blocks, q, mu, dil, rho, eta, x, v, s, norm_q, measure,
+                                                work)
         if extrapolated and res > safe_res:     # the extrapolation did not pay: the plain step
             astate[:] = 0
             v[:] = safe_v
@@ -360,8 +426,7 @@ def admm_loop(lp, li, lx, up, ui, ux, ud, rows, cols, triples, refine, wp, wi, w
         safe_v[:] = tv
         safe_res = res
         if dG.shape[0] > 0 and it >= paused_until:
-            out, extrapolated = anderson_update(v, tv, prev_v, prev_tv, dG, dF, gram, astate)
-            v[:] = out
+            extrapolated = anderson_update(v, tv, prev_f, prev_tv, dG, dF, gram, small, astate)
         else:
             v[:] = tv
         if change != 0:

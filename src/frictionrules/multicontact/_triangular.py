@@ -40,11 +40,22 @@ def lu_solve(lp, li, lx, up, ui, ux, ud, rows, cols, triples, b):
     same bits); the backward ones take the triple's own columns last.
 
     Factors in 3 x 3 blocks (:func:`block_factors`: ``lp`` then has one entry per contact and
-    one more) are solved by :func:`_block_solve`, the same sums in the same order."""
-    if lp.size - 1 < ud.size:
-        return _block_solve(lp, li, lx, up, ui, ux, ud, rows, cols, b)
+    one more) are solved by :func:`_block_solve`: the same terms, each block's summed first
+    (the same solution to round-off)."""
     n = b.size
-    y = np.empty(n)
+    x = np.empty(n)
+    lu_solve_into(lp, li, lx, up, ui, ux, ud, rows, cols, triples, b, np.empty(n), x)
+    return x
+
+
+@njit(cache=True)
+def lu_solve_into(lp, li, lx, up, ui, ux, ud, rows, cols, triples, b, y, x):
+    """:func:`lu_solve` into ``x``, ``y`` (of b's size) its scratch: no array allocated (an
+    ADMM iteration on Box_Stacks is 5 µs)."""
+    if lp.size - 1 < ud.size:
+        _block_solve(lp, li, lx, up, ui, ux, ud, rows, cols, b, y, x)
+        return
+    n = b.size
     i = 0
     while i < n:
         if i % 3 == 0 and triples[i // 3] & 1:
@@ -70,15 +81,15 @@ def lu_solve(lp, li, lx, up, ui, ux, ud, rows, cols, triples, b):
         y[i] = acc
         i += 1
     if up.size == 0:
-        return _backward_ldl(lp, li, lx, ud, cols, triples, y)
-    return _backward_lu(up, ui, ux, ud, cols, triples, y)
+        _backward_ldl(lp, li, lx, ud, cols, triples, y, x)
+    else:
+        _backward_lu(up, ui, ux, ud, cols, triples, y, x)
 
 
 @njit(cache=True, inline="always")
-def _backward_lu(up, ui, ux, ud, cols, triples, y):
+def _backward_lu(up, ui, ux, ud, cols, triples, y, x):
     """:math:`U x' = y` row by row (:func:`lu_solve`), ``x = x'`` in the columns' order."""
     n = y.size
-    x = np.empty(n)
     i = n - 1
     while i >= 0:
         if i % 3 == 2 and triples[i // 3] & 2:
@@ -102,11 +113,10 @@ def _backward_lu(up, ui, ux, ud, cols, triples, y):
         y[i] = acc / ud[i]
         x[cols[i]] = y[i]
         i -= 1
-    return x
 
 
 @njit(cache=True, inline="always")
-def _backward_ldl(lp, li, lx, ud, cols, triples, y):
+def _backward_ldl(lp, li, lx, ud, cols, triples, y, x):
     """:math:`L^T x' = D^{-1} y` column by column (:func:`lu_solve`), ``x = x'`` in the
     columns' order; a contact's triple of L's rows (``triples[t] & 1``) scattered together."""
     n = y.size
@@ -129,10 +139,8 @@ def _backward_ldl(lp, li, lx, ud, cols, triples, y):
         for p in range(lp[i], lp[i + 1]):
             y[li[p]] -= lx[p] * xi
         i -= 1
-    x = np.empty(n)
     for i in range(n):
         x[cols[i]] = y[i]
-    return x
 
 
 @njit(cache=True)
@@ -196,8 +204,7 @@ def block_factors(arrays, patterns=None):
     pass and its three entries of the solution in one place, with one index for nine entries:
     one solve on an idle machine, blocks against rows (L alone): the 3,970-sphere pile 473
     against 1,189 µs, the 1,812 spheres 150 against 342, spheres-in-a-box 12.3 against 26.4,
-    Box_Stacks 2.3 against 3.5; the same bits where each contact's rows share their columns
-    (:func:`contact_triples`), round-off apart elsewhere."""
+    Box_Stacks 2.3 against 3.5; the same solution as the rows' form to round-off."""
     lp, li, lx, up, ui, ux, ud, rows, cols, triples = arrays
     n = ud.size
     if n % 3:
@@ -222,29 +229,25 @@ def block_factors(arrays, patterns=None):
 
 @njit(cache=True, inline="always")
 def _minus_block(vals, q, y, s, a0, a1, a2):
-    """``a - B y[s:s + 3]``, B the block of nine values from ``vals[q]`` (row-major), each
-    row's terms in the order of its columns."""
+    """``a - B y[s:s + 3]``, B the block of nine values from ``vals[q]`` (row-major): each
+    row's three terms summed first, then taken from ``a``. The chain of a row's sum is then
+    one subtraction per block, not three (the solve waits on it: local_problem_test's two
+    solves 2.7 -> 2.3 µs)."""
     y0, y1, y2 = y[s], y[s + 1], y[s + 2]
-    a0 -= vals[q] * y0
-    a1 -= vals[q + 3] * y0
-    a2 -= vals[q + 6] * y0
-    a0 -= vals[q + 1] * y1
-    a1 -= vals[q + 4] * y1
-    a2 -= vals[q + 7] * y1
-    a0 -= vals[q + 2] * y2
-    a1 -= vals[q + 5] * y2
-    a2 -= vals[q + 8] * y2
+    a0 -= (vals[q] * y0 + vals[q + 1] * y1) + vals[q + 2] * y2
+    a1 -= (vals[q + 3] * y0 + vals[q + 4] * y1) + vals[q + 5] * y2
+    a2 -= (vals[q + 6] * y0 + vals[q + 7] * y1) + vals[q + 8] * y2
     return a0, a1, a2
 
 
 @njit(cache=True)
-def _block_solve(bp, bc, bv, cp, cc, cv, ud, rows, cols, b):
+def _block_solve(bp, bc, bv, cp, cc, cv, ud, rows, cols, b, y, x):
     """:func:`lu_solve` on factors in 3 x 3 blocks (:func:`block_factors`; ``cp`` empty: U
-    is :math:`D L^T`): per contact, its blocks in the order of the rows' entries, so each
-    row's sum is the one of the rows' form, term by term."""
+    is :math:`D L^T`): per contact, its blocks in the order of the rows' entries, each
+    block's three terms of a row summed before they are taken from the row's sum
+    (:func:`_minus_block`); into ``x``, ``y`` the scratch."""
     n = b.size
     nc = n // 3
-    y = np.empty(n)
     for t in range(nc):
         i = 3 * t
         a0, a1, a2 = b[rows[i]], b[rows[i + 1]], b[rows[i + 2]]
@@ -258,7 +261,6 @@ def _block_solve(bp, bc, bv, cp, cc, cv, ud, rows, cols, b):
         a2 -= bv[q + 6] * a0
         a2 -= bv[q + 7] * a1
         y[i + 2] = a2
-    x = np.empty(n)
     if cp.size == 0:                    # L^T x' = D^-1 y, column by column
         for i in range(n):
             y[i] /= ud[i]
@@ -278,7 +280,7 @@ def _block_solve(bp, bc, bv, cp, cc, cv, ud, rows, cols, b):
                 y[s + 2] -= (bv[q + 2] * x0 + bv[q + 5] * x1) + bv[q + 8] * x2
         for i in range(n):
             x[cols[i]] = y[i]
-        return x
+        return
     for t in range(nc - 1, -1, -1):     # U x' = y, row by row
         i = 3 * t
         a0, a1, a2 = y[i], y[i + 1], y[i + 2]
@@ -290,7 +292,6 @@ def _block_solve(bp, bc, bv, cp, cc, cv, ud, rows, cols, b):
         y[i + 1] = (a1 - cv[q + 5] * y[i + 2]) / ud[i + 1]
         y[i] = ((a0 - cv[q + 1] * y[i + 1]) - cv[q + 2] * y[i + 2]) / ud[i]
         x[cols[i]], x[cols[i + 1]], x[cols[i + 2]] = y[i], y[i + 1], y[i + 2]
-    return x
 
 
 @njit(cache=True)
@@ -302,16 +303,7 @@ def contact_triples(lp, li, up, ui):
     out = np.zeros(n // 3, np.uint8)
     for t in range(n // 3):
         i = 3 * t
-        p0, p1, p2 = lp[i], lp[i + 1], lp[i + 2]
-        m = p1 - p0
-        ok = lp[i + 2] - p1 == m + 1 and lp[i + 3] - p2 == m + 2
-        if ok:
-            ok = li[p1 + m] == i and li[p2 + m] == i and li[p2 + m + 1] == i + 1
-            for k in range(m):
-                if not ok:
-                    break
-                ok = li[p1 + k] == li[p0 + k] and li[p2 + k] == li[p0 + k]
-        if ok:
+        if _shared_rows(lp, li, i):
             out[t] |= 1
         q0, q1, q2 = up[i], up[i + 1], up[i + 2]
         m = up[i + 3] - q2
@@ -427,6 +419,56 @@ def lu_refactor(bp, bi, bx, c, lp, li, up, ui):
     return lx, ux, ud, ok
 
 
+@njit(cache=True, inline="always")
+def _shared_rows(lp, li, i):
+    """Whether L's rows i, i + 1, i + 2 are ``P``, ``P + [i]``, ``P + [i, i + 1]`` (one set P
+    of columns, ascending)."""
+    p0, p1, p2 = lp[i], lp[i + 1], lp[i + 2]
+    m = p1 - p0
+    if p2 - p1 != m + 1 or lp[i + 3] - p2 != m + 2:
+        return False
+    if li[p1 + m] != i or li[p2 + m] != i or li[p2 + m + 1] != i + 1:
+        return False
+    for k in range(m):
+        if li[p1 + k] != li[p0 + k] or li[p2 + k] != li[p0 + k]:
+            return False
+    return True
+
+
+@njit(cache=True, inline="always")
+def _lower_row(bp, bi, bx, c, i, w):
+    """Row i of B's lower triangle, and c on its diagonal, into ``w``."""
+    for p in range(bp[i], bp[i + 1]):
+        if bi[p] > i:
+            break
+        w[bi[p]] = bx[p]
+    w[i] += c
+
+
+@njit(cache=True, inline="always")
+def _finish_row(i, start, lp, li, lx, up, ui, ux, ud, nxt, w):
+    """Row i of :func:`symmetric_refactor` from L's entry ``start`` of the row on, then its
+    pivot; ``w`` back to zeros. False where U's pattern is not L's transposed or the pivot is
+    zero or not finite."""
+    for p in range(start, lp[i + 1]):
+        k = li[p]
+        r = nxt[k]
+        if r >= up[k + 1] or ui[r] != i:
+            return False
+        x = w[k]
+        w[k] = 0.0
+        ux[r] = x
+        nxt[k] = r + 1
+        lik = x / ud[k]
+        lx[p] = lik
+        for s in range(up[k], r + 1):
+            w[ui[s]] -= lik * ux[s]
+    d = w[i]
+    ud[i] = d
+    w[i] = 0.0
+    return d != 0.0 and np.isfinite(d)
+
+
 @njit(cache=True)
 def symmetric_refactor(bp, bi, bx, c, lp, li, up, ui):
     r""":func:`lu_refactor` for a symmetric B: its lower triangle alone, by rows, half the work.
@@ -434,38 +476,60 @@ def symmetric_refactor(bp, bi, bx, c, lp, li, up, ui):
     :math:`U_{ki} = w_k`, :math:`L_{ik} = w_k / U_{kk}`, :math:`w \leftarrow w - L_{ik}
     U_{k, \le i}` (U's row k holds its columns up to i already); then :math:`U_{ii} = w_i`. So
     :math:`U = D L^T` and :math:`L D L^T = B + cI`. ``ok`` false where a pivot is zero or not
-    finite, or where U's pattern is not L's transposed (then :func:`lu_refactor` serves)."""
+    finite, or where U's pattern is not L's transposed (then :func:`lu_refactor` serves).
+
+    A contact's three rows whose L rows share their columns (:func:`_shared_rows`) go
+    together through those columns: one read of U's row k serves three updates to three work
+    rows, independent of each other (the refill waits on each update's store and load:
+    local_problem_test 41 -> 20 µs); each row's operations, and so its bits, are those of the
+    row alone."""
     n = lp.size - 1
     lx, ux, ud = np.empty(li.size), np.empty(ui.size), np.empty(n)
-    w = np.zeros(n)
+    w = np.zeros((3, n))
+    w0, w1, w2 = w[0], w[1], w[2]
     nxt = up[:n].astype(np.int64)           # the next entry of U's row k: its column i
     ok = ui.size == li.size
-    for i in range(n):
-        if not ok:
-            break
-        for p in range(bp[i], bp[i + 1]):
-            if bi[p] > i:
-                break
-            w[bi[p]] = bx[p]
-        w[i] += c
-        for p in range(lp[i], lp[i + 1]):
-            k = li[p]
+    i = 0
+    while i < n and ok:
+        if i % 3 != 0 or i + 3 > n or not _shared_rows(lp, li, i):
+            _lower_row(bp, bi, bx, c, i, w0)
+            ok = _finish_row(i, lp[i], lp, li, lx, up, ui, ux, ud, nxt, w0)
+            i += 1
+            continue
+        _lower_row(bp, bi, bx, c, i, w0)
+        _lower_row(bp, bi, bx, c, i + 1, w1)
+        _lower_row(bp, bi, bx, c, i + 2, w2)
+        p0, p1, p2 = lp[i], lp[i + 1], lp[i + 2]
+        m = p1 - p0
+        for q in range(m):
+            k = li[p0 + q]
             r = nxt[k]
-            if r >= up[k + 1] or ui[r] != i:
+            if r + 2 >= up[k + 1] or ui[r] != i or ui[r + 1] != i + 1 or ui[r + 2] != i + 2:
                 ok = False
                 break
-            x = w[k]
-            w[k] = 0.0
-            ux[r] = x
-            nxt[k] = r + 1
-            lik = x / ud[k]
-            lx[p] = lik
-            for s in range(up[k], r + 1):
-                w[ui[s]] -= lik * ux[s]
-        d = w[i]
-        ok = ok and d != 0.0 and np.isfinite(d)
-        ud[i] = d
-        w[i] = 0.0
+            nxt[k] = r + 3
+            x0, x1, x2 = w0[k], w1[k], w2[k]
+            w0[k] = w1[k] = w2[k] = 0.0
+            ux[r], ux[r + 1], ux[r + 2] = x0, x1, x2
+            dk = ud[k]
+            l0, l1, l2 = x0 / dk, x1 / dk, x2 / dk
+            lx[p0 + q], lx[p1 + q], lx[p2 + q] = l0, l1, l2
+            for s in range(up[k], r):
+                col = ui[s]
+                u = ux[s]
+                w0[col] -= l0 * u
+                w1[col] -= l1 * u
+                w2[col] -= l2 * u
+            w0[i] -= l0 * x0
+            w1[i] -= l1 * x0
+            w2[i] -= l2 * x0
+            w1[i + 1] -= l1 * x1
+            w2[i + 1] -= l2 * x1
+            w2[i + 2] -= l2 * x2
+        ok = ok and _finish_row(i, p0 + m, lp, li, lx, up, ui, ux, ud, nxt, w0)
+        ok = ok and _finish_row(i + 1, p1 + m, lp, li, lx, up, ui, ux, ud, nxt, w1)
+        ok = ok and _finish_row(i + 2, p2 + m, lp, li, lx, up, ui, ux, ud, nxt, w2)
+        i += 3
     for k in range(n):
         ok = ok and nxt[k] == up[k + 1]
     return lx, ux, ud, ok
