@@ -223,13 +223,15 @@ class _Factor:
 
     def _refines(self, x, b) -> bool:
         """Whether solves take a step of refinement: the test solve ``x`` of ``A x = b`` misses
-        :math:`10^{-12}` relative residual and one step at least halves it. (Where the residual
+        :math:`10^{-12}` relative residual and one step at least halves it
+        (:data:`._admm_steps.REFINE_RESIDUAL`, :data:`._admm_steps.REFINE_GAIN`). (Where the residual
         is round-off of an ill-conditioned A, the step does not pay: spheres-in-a-box at small
         :math:`\rho`, 4.4e-12 before and 4.0e-12 after, each iteration then twice as long.)"""
+        from . import _admm_steps as S
         r = norm(self._residual(x, b))
-        if not r > 1e-12 * norm(b):
+        if not r > S.REFINE_RESIDUAL * norm(b):
             return False
-        return bool(norm(self._residual(x - self._solve(self._residual(x, b)), b)) <= 0.5 * r)
+        return bool(S.REFINE_GAIN * norm(self._residual(x - self._solve(self._residual(x, b)), b)) <= r)
 
     def _residual(self, x, b):
         return _product(self.fr)(x, self.c * x - b)

@@ -49,20 +49,26 @@ def factor_solve(lp, li, lx, up, ui, ux, ud, rows, cols, triples, refine, shift,
     return x
 
 
+#: Iterative refinement is taken where a test solve misses this relative residual and one
+#: step of it divides the residual by at least REFINE_GAIN (:func:`refines`,
+#: :meth:`._admm._Factor._refines`).
+REFINE_RESIDUAL, REFINE_GAIN = 1e-12, 2.0
+
+
 @njit(cache=True)
 def refines(lp, li, lx, up, ui, ux, ud, rows, cols, triples, shift, wp, wi, wx, blocks, t):
     r"""Whether solves with these factors of :math:`A = W + \text{shift}\,I` take a step of
     iterative refinement (:meth:`._admm._Factor._refines`, in one compiled call): the solve of
-    :math:`A x = t` misses :math:`10^{-12}` relative residual and one step at least halves
-    it."""
+    :math:`A x = t` misses :data:`REFINE_RESIDUAL` relative residual and one step divides
+    it by at least :data:`REFINE_GAIN`."""
     x = lu_solve(lp, li, lx, up, ui, ux, ud, rows, cols, triples, t)
     r = block_matvec(wp, wi, wx, x, shift * x - t) if blocks else K.csr_matvec(wp, wi, wx, x, shift * x - t)
     res = np.sqrt(np.dot(r, r))
-    if not res > 1e-12 * np.sqrt(np.dot(t, t)):
+    if not res > REFINE_RESIDUAL * np.sqrt(np.dot(t, t)):
         return False
     x = x - lu_solve(lp, li, lx, up, ui, ux, ud, rows, cols, triples, r)
     r = block_matvec(wp, wi, wx, x, shift * x - t) if blocks else K.csr_matvec(wp, wi, wx, x, shift * x - t)
-    return np.sqrt(np.dot(r, r)) <= 0.5 * res
+    return REFINE_GAIN * np.sqrt(np.dot(r, r)) <= res
 
 
 @njit(cache=True)
