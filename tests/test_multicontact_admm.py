@@ -410,6 +410,31 @@ def test_anderson_step_is_the_normal_equations():
     assert out is same and not extrapolated
 
 
+def test_anderson_step_falls_back_to_the_plain_step_where_not_finite():
+    """An extrapolation whose system or result is not finite gives T(v) itself, not
+    extrapolated: an infinite entry of T(v), and a result that overflows (the update's check,
+    :func:`_admm_steps._minus_rows`, which also sees a NaN)."""
+    rng = np.random.default_rng(4)
+    pairs = [(rng.normal(size=30), rng.normal(size=30)) for _ in range(3)]
+    a = _Anderson(3)
+    for v, tv in pairs:
+        a.step(v, tv)
+    bad = rng.normal(size=30)
+    bad[7] = np.inf
+    out, extrapolated = a.step(rng.normal(size=30), bad)
+    assert out is bad and not extrapolated
+    gamma = np.array([-10.0, 1.0])
+    rows = np.zeros((2, 4))
+    rows[0, 1] = 1e308                               # 1e309 overflows
+    out = np.ones(4)
+    assert not S._minus_rows(out, rows, gamma, 0, 1) and np.isinf(out[1])
+    out = np.ones(4)
+    rows[0, 1], rows[1, 2] = 1.0, np.nan
+    assert S._minus_rows(out, rows, gamma, 0, 1)    # the first row alone: finite
+    np.testing.assert_array_equal(out, [1.0, 11.0, 1.0, 1.0])
+    assert not S._minus_rows(out, rows, gamma, 0, 2) and np.isnan(out[2])
+
+
 def test_factor_beyond_the_bitset_limit_lets_superlu_order(monkeypatch):
     nc = 200
     W = block_matrix(nc, 10, density=0.02)
