@@ -85,8 +85,10 @@ def _lammps_passes():
     from numba import njit
 
     @njit(inline="always", fastmath={"contract"})
-    def contact(c, i, j, PK, x, v, w, R, H, s1, s2, s3, dt):
-        """One pair: ``(touching, dx, dy, dz, rinv, ccel, fs, shear)`` (LAMMPS's variables)."""
+    def contact(c, PI, PJ, PK, x, v, w, R, H, s1, s2, s3, dt):
+        """Pair c, its history ``s``: ``(touching, i, j, dx, dy, dz, rinv, ccel, fs, shear, excess)``
+        (LAMMPS's variables)."""
+        i, j = PI[c], PJ[c]
         k0, k1, k2 = PK[c, 0], PK[c, 1], PK[c, 2]
         dx = x[i, 0] - x[j, 0] - (H[0, 0] * k0 + H[0, 1] * k1 + H[0, 2] * k2)
         dy = x[i, 1] - x[j, 1] - (H[1, 0] * k0 + H[1, 1] * k1 + H[1, 2] * k2)
@@ -94,7 +96,7 @@ def _lammps_passes():
         rsq = dx * dx + dy * dy + dz * dz
         rs = R[i] + R[j]
         if rsq >= rs * rs:
-            return False, dx, dy, dz, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+            return False, i, j, dx, dy, dz, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
         r = math.sqrt(rsq)
         rinv, rsqinv = 1.0 / r, 1.0 / rsq
         vr1, vr2, vr3 = v[i, 0] - v[j, 0], v[i, 1] - v[j, 1], v[i, 2] - v[j, 2]
@@ -115,17 +117,15 @@ def _lammps_passes():
             scale = fn / fs if fs > 0.0 else 0.0
             fs1, fs2, fs3 = fs1 * scale, fs2 * scale, fs3 * scale
             s1, s2, s3 = -fs1 / KT, -fs2 / KT, -fs3 / KT
-        return True, dx, dy, dz, rinv, ccel, fs1, fs2, fs3, s1, s2, s3, fs - fn
+        return True, i, j, dx, dy, dz, rinv, ccel, fs1, fs2, fs3, s1, s2, s3, fs - fn
 
     @njit(fastmath={"contract"})
     def engine_arrays(reps, order, PI, PJ, PK, x, v, w, R, H, dt, S, NRM, T1, GAP, FRC, GF, TQ, ST, SLIP, ACT):
         width = S.shape[1]
         for _ in range(reps):
-            for k in range(order.size):
-                c = order[k]
-                i, j = PI[c], PJ[c]
-                on, dx, dy, dz, rinv, ccel, f1, f2, f3, s1, s2, s3, excess = contact(
-                    c, i, j, PK, x, v, w, R, H, S[c, 0], S[c, 1], S[c, 3], dt)
+            for c in order:
+                on, _, _, dx, dy, dz, rinv, ccel, f1, f2, f3, s1, s2, s3, excess = contact(
+                    c, PI, PJ, PK, x, v, w, R, H, S[c, 0], S[c, 1], S[c, 3], dt)
                 if not on and ACT[c] == 0:
                     continue
                 S[c, 0], S[c, 1], S[c, 3] = s1, s2, s3 + 0.0 * (NRM[c, 0] + T1[c, 0] + GAP[c])
@@ -145,11 +145,9 @@ def _lammps_passes():
     @njit(fastmath={"contract"})
     def scattered(reps, order, PI, PJ, PK, x, v, w, R, H, dt, shear, f, t):
         for _ in range(reps):
-            for k in range(order.size):
-                c = order[k]
-                i, j = PI[c], PJ[c]
-                on, dx, dy, dz, rinv, ccel, f1, f2, f3, s1, s2, s3, _ = contact(
-                    c, i, j, PK, x, v, w, R, H, shear[c, 0], shear[c, 1], shear[c, 2], dt)
+            for c in order:
+                on, i, j, dx, dy, dz, rinv, ccel, f1, f2, f3, s1, s2, s3, _ = contact(
+                    c, PI, PJ, PK, x, v, w, R, H, shear[c, 0], shear[c, 1], shear[c, 2], dt)
                 shear[c, 0], shear[c, 1], shear[c, 2] = s1, s2, s3
                 if not on:
                     continue
