@@ -34,6 +34,19 @@ def x_step_rhs(q, y, x, z, mu, dil, rho, eta, s, b):
     return b
 
 
+@njit(cache=True, inline="always")
+def w_product(wp, wi, wx, blocks, x, q):
+    """:math:`q + W x` from W's CSR arrays: by 3 x 3 blocks (:func:`block_matvec`) when W is
+    made of them (``blocks``), by entries (:func:`._kernels.csr_matvec`) otherwise."""
+    return block_matvec(wp, wi, wx, x, q) if blocks else K.csr_matvec(wp, wi, wx, x, q)
+
+
+@njit(cache=True, inline="always")
+def shifted_residual(wp, wi, wx, blocks, shift, x, b):
+    r""":math:`(W + \text{shift}\,I)\,x - b` (:func:`w_product` of ``shift x - b``)."""
+    return w_product(wp, wi, wx, blocks, x, shift * x - b)
+
+
 @njit(cache=True)
 def factor_solve(lp, li, lx, up, ui, ux, ud, rows, cols, triples, refine, shift, wp, wi, wx, blocks, b, scratch,
                  x):
@@ -43,8 +56,7 @@ def factor_solve(lp, li, lx, up, ui, ux, ud, rows, cols, triples, refine, shift,
     :math:`x \leftarrow x - A^{-1}(A x - b)`."""
     lu_solve_into(lp, li, lx, up, ui, ux, ud, rows, cols, triples, b, scratch, x)
     if refine:
-        c = shift * x - b
-        r = block_matvec(wp, wi, wx, x, c) if blocks else K.csr_matvec(wp, wi, wx, x, c)
+        r = shifted_residual(wp, wi, wx, blocks, shift, x, b)
         x -= lu_solve(lp, li, lx, up, ui, ux, ud, rows, cols, triples, r)
     return x
 
@@ -62,12 +74,12 @@ def refines(lp, li, lx, up, ui, ux, ud, rows, cols, triples, shift, wp, wi, wx, 
     :math:`A x = t` misses :data:`REFINE_RESIDUAL` relative residual and one step divides
     it by at least :data:`REFINE_GAIN`."""
     x = lu_solve(lp, li, lx, up, ui, ux, ud, rows, cols, triples, t)
-    r = block_matvec(wp, wi, wx, x, shift * x - t) if blocks else K.csr_matvec(wp, wi, wx, x, shift * x - t)
+    r = shifted_residual(wp, wi, wx, blocks, shift, x, t)
     res = np.sqrt(np.dot(r, r))
     if not res > REFINE_RESIDUAL * np.sqrt(np.dot(t, t)):
         return False
     x = x - lu_solve(lp, li, lx, up, ui, ux, ud, rows, cols, triples, r)
-    r = block_matvec(wp, wi, wx, x, shift * x - t) if blocks else K.csr_matvec(wp, wi, wx, x, shift * x - t)
+    r = shifted_residual(wp, wi, wx, blocks, shift, x, t)
     return REFINE_GAIN * np.sqrt(np.dot(r, r)) <= res
 
 
@@ -96,16 +108,17 @@ def residual_error(wp, wi, wx, blocks, q, mu, dil, r, norm_q):
     r"""Siconos' error of ``r`` (:meth:`._frame._Frame.error`):
     :math:`\sqrt{\sum_a |r_a - P_K(r_a - \hat u_a)|^2} / \max(|q|, |r|, |u|)`,
     :math:`u = W r + q`, unscaled when that maximum is at most the machine epsilon."""
-    u = block_matvec(wp, wi, wx, r, q) if blocks else K.csr_matvec(wp, wi, wx, r, q)
+    u = w_product(wp, wi, wx, blocks, r, q)
     e = np.sqrt(K.error_sum(r, u, mu, dil))
     scale = max(norm_q, np.sqrt(np.dot(r, r)), np.sqrt(np.dot(u, u)))
     return e / scale if scale > np.finfo(np.float64).eps else e
 
 
 @njit(cache=True, inline="always")
-def _z_entry(i, y_new, x_new, x, v, tv, rho, eta, n):
-    """Entry i of the z-step (into ``tv[n + i]``): the primal and dual residuals' entries and
-    the entry's two squares of :math:`|T(v) - v|^2`, summed."""
+def _z_entry(i, x_new, x, v, tv, rho, eta, n):
+    """Entry i of the z-step (into ``tv[n + i]``, from the new y in ``tv[i]``): the primal and
+    dual residuals' entries and the entry's two squares of :math:`|T(v) - v|^2`, summed."""
+    y_new = tv[i]
     tv[n + i] = v[n + i] - rho * (x_new[i] - y_new)
     dz = tv[n + i] - v[n + i]
     dy = y_new - v[i]
@@ -129,10 +142,9 @@ def y_z_steps(x_new, x, v, mu, rho, eta, tv):
     res, primal, dual, nan = 0.0, 0.0, 0.0, False
     for a in range(mu.size):
         i = 3 * a
-        y0, y1, y2 = tv[i], tv[i + 1], tv[i + 2]
-        p0, d0, r0 = _z_entry(i, y0, x_new, x, v, tv, rho, eta, n)
-        p1, d1, r1 = _z_entry(i + 1, y1, x_new, x, v, tv, rho, eta, n)
-        p2, d2, r2 = _z_entry(i + 2, y2, x_new, x, v, tv, rho, eta, n)
+        p0, d0, r0 = _z_entry(i, x_new, x, v, tv, rho, eta, n)
+        p1, d1, r1 = _z_entry(i + 1, x_new, x, v, tv, rho, eta, n)
+        p2, d2, r2 = _z_entry(i + 2, x_new, x, v, tv, rho, eta, n)
         p, d = max(p0, p1, p2), max(d0, d1, d2)
         nan = nan or np.isnan(p0 + p1 + p2) or np.isnan(d0 + d1 + d2)
         primal, dual = max(primal, p), max(dual, d)
@@ -294,8 +306,7 @@ def power_iteration(indptr, indices, data, v, iterations, blocks):
     v = v / np.sqrt(np.dot(v, v))
     lam = 0.0
     for _ in range(iterations):
-        w = block_matvec(indptr, indices, data, v, zero) if blocks else K.csr_matvec(indptr, indices, data, v,
-                                                                                       zero)
+        w = w_product(indptr, indices, data, blocks, v, zero)
         lam = np.sqrt(np.dot(w, w))
         if lam == 0.0:
             return 0.0
