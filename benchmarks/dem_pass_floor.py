@@ -43,21 +43,10 @@ PASSES = 10
 
 def _state(tiles: int):
     """The engine on the sample after the warm-up: ``(dynamics, state, one contact pass)``."""
-    import frictionrules as fr
-    from dem_vs_lammps import DAMPING, WARMUP, _model, _sample_file
-    from frictionrules.assembly._dem import _protocol as P
-    from frictionrules.assembly._dem._dynamics import Dynamics
+    from dem_vs_lammps import _sample_file, warmed_engine
     from frictionrules.assembly._dem._passes import contact_range
     from numba import njit
-    d = np.load(_sample_file(tiles))
-    a = fr.Assembly(d["x"], d["radius"], d["H"], _model("coulomb"))
-    rate = float(d["rate"])
-    dyn = Dynamics(a, density=1.0, damping=DAMPING)
-    st = dyn.init()
-    comps = P.components(3)
-    rates = np.array([-rate / 2 if (i, j) in ((0, 0), (1, 1)) else (rate if i == j else 0.0) for i, j in comps])
-    zero = np.zeros(len(comps))
-    st, _ = dyn.run(st, P._control(zero, zero, zero, rates, 0.0, 10 * rate, 1.0, False, 3), 1e9, WARMUP)
+    _, dyn, st, _ = warmed_engine(_sample_file(tiles), "coulomb")
     lists = dyn.lists[1]
     laws, ws = dyn.laws(False)
     params = dyn.params(False)

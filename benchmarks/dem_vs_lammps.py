@@ -88,8 +88,9 @@ def _prepare(k: int, path: Path) -> None:
     np.savez(path, x=st.grains.x, radius=st.grains.radius, H=st.cell.H, rate=rate)
 
 
-def _engine(path: Path, law: str, steps: int) -> dict:
-    """One timed run of the engine (in a process of its own)."""
+def warmed_engine(path: Path, law: str):
+    """The engine on the sample ``path`` with ``law`` ("coulomb" or "user"), after the
+    ``WARMUP`` steps of the shear: ``(assembly, dynamics, state, control)``."""
     import frictionrules as fr
     from frictionrules.assembly._dem import _protocol as P
     from frictionrules.assembly._dem._dynamics import Dynamics
@@ -104,6 +105,12 @@ def _engine(path: Path, law: str, steps: int) -> dict:
     zero = np.zeros(len(comps))
     ctl = P._control(zero, zero, zero, rates, 0.0, 10 * rate, 1.0, False, 3)
     st, _ = dyn.run(st, ctl, 1e9, WARMUP)
+    return a, dyn, st, ctl
+
+
+def _engine(path: Path, law: str, steps: int) -> dict:
+    """One timed run of the engine (in a process of its own)."""
+    a, dyn, st, ctl = warmed_engine(path, law)
     s0 = int(st.meters[0]["steps"])
     w0, c0 = time.perf_counter(), time.process_time()
     st, _ = dyn.run(st, ctl, 1e9, steps)
