@@ -4,7 +4,7 @@ One contact driven through LAMMPS (two spheres whose positions, velocities and s
 before each ``run 1``, no integrator) gives at every step the force of
 :class:`frictionrules.ContactModel` on the same increments, to 1e-10 relative: the increments
 and the turning of the history are those of the DEM engine's contact pass
-(``assembly/_dem/_passes.py``: ``contact_range``, ``_frame``, ``_carry``), re-derived here in
+(``assembly/_dem/_passes.py``: ``contact_range``, ``_frame``, ``_turn``), re-derived here in
 NumPy (:class:`Reference`). Laws: Coulomb, a turned orthotropic law, a tangentially
 non-associated user law and a user law that hardens with the accumulated slip κ.
 """
@@ -229,7 +229,7 @@ def test_one_contact_slide_reverse_open_equals_contact_model(plugins, tmp_path, 
                                       ("elliptic", True), ("hardening", False)])
 def test_one_contact_turning_normal_follows_engine_kinematics(plugins, tmp_path, key, swap):
     """A normal turning by 0.7 rad with twisting spins: the history turned as the engine's
-    ``_carry``. With the atom IDs swapped the pair is evaluated from the moving sphere (its
+    ``_turn``. With the atom IDs swapped the pair is evaluated from the moving sphere (its
     canonical orientation: lower ID first), which an anisotropic law sees in a mirrored frame
     (t2 = n x t1 changes sign with n)."""
     install, get = plugins

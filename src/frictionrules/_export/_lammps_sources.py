@@ -154,11 +154,20 @@ static inline double fr_last_force(const double *h, int pn, const double *p, dou
    sg * (v[j][1] - v[i][1]) + Ll[1] - (W[2] * n[0] - W[0] * n[2]),                     \
    sg * (v[j][2] - v[i][2]) + Ll[2] - (W[0] * n[1] - W[1] * n[0])}
 
+/* |n x a|^2 */
+static inline double fr_cross2(double nx, double ny, double nz, double ax, double ay, double az)
+{
+  const double cx = ny * az - nz * ay, cy = nz * ax - nx * az, cz = nx * ay - ny * ax;
+  return cx * cx + cy * cy + cz * cz;
+}
+
 static inline void fr_frame(double nx, double ny, double nz, const double *axis, double *t1)
 {
   double ax = axis[0], ay = axis[1], az = axis[2];
+  /* q = |n x a|^2 = 1 - (a.n)^2 summed without cancellation: t1 unit to a few eps over the
+     sine of the angle between a and n (the engine's frame) */
   double an = ax * nx + ay * ny + az * nz;
-  double q = 1.0 - an * an;
+  double q = fr_cross2(nx, ny, nz, ax, ay, az);
   if (q < 1e-12) {
     const double bx = fabs(ax), by = fabs(ay), bz = fabs(az);
     if (bx >= by && bx >= bz) {
@@ -169,7 +178,7 @@ static inline void fr_frame(double nx, double ny, double nz, const double *axis,
       ax = 1.0; ay = 0.0; az = 0.0;
     }
     an = ax * nx + ay * ny + az * nz;
-    q = 1.0 - an * an;
+    q = fr_cross2(nx, ny, nz, ax, ay, az);
   }
   const double inv = 1.0 / sqrt(q);
   t1[0] = (ax - an * nx) * inv;
