@@ -83,6 +83,13 @@ def refines(lp, li, lx, up, ui, ux, ud, rows, cols, triples, shift, wp, wi, wx, 
     return REFINE_GAIN * np.sqrt(np.dot(r, r)) <= res
 
 
+@njit(cache=True, inline="always")
+def work_views(work, n):
+    """The parts of an iteration's workspace ``work`` (5 n, :func:`admm_iteration`): the
+    right-hand side, the solve's scratch, ``x_new`` and ``tv = (y, z)``."""
+    return work[:n], work[n:2 * n], work[2 * n:3 * n], work[3 * n:]
+
+
 @njit(cache=True)
 def admm_iteration(lp, li, lx, up, ui, ux, ud, rows, cols, triples, refine, shift, wp, wi, wx, blocks,
                    q, mu, dil, rho, eta, x, v, s, norm_q, measure, work):
@@ -90,14 +97,14 @@ def admm_iteration(lp, li, lx, up, ui, ux, ud, rows, cols, triples, refine, shif
     :math:`x_{new} = (W + (\rho + \eta) I)^{-1}(-(q + s) + \rho y + \eta x + z)`
     (:func:`x_step_rhs`, :func:`factor_solve`; ``shift`` :math:`= \rho + \eta`), then
     :func:`y_z_steps` and, when ``measure``, the error of the new y (:func:`residual_error`;
-    NaN otherwise). ``work`` (5 n): the right-hand side, the solve's scratch, ``x_new``
-    (``work[2n:3n]``) and ``tv`` (``work[3n:]``), so that no array is allocated. Returns
-    ``(res, primal, dual, err)``."""
+    NaN otherwise). ``work`` (5 n, its parts :func:`work_views`): the new ``x_new`` and
+    ``tv`` are written there, so that no array is allocated. Returns ``(res, primal, dual,
+    err)``."""
     n = q.size
-    b = x_step_rhs(q, v[:n], x, v[n:], mu, dil, rho, eta, s, work[:n])
-    x_new = factor_solve(lp, li, lx, up, ui, ux, ud, rows, cols, triples, refine, shift, wp, wi, wx, blocks, b,
-                         work[n:2 * n], work[2 * n:3 * n])
-    tv = work[3 * n:]
+    rhs, scratch, x_new, tv = work_views(work, n)
+    b = x_step_rhs(q, v[:n], x, v[n:], mu, dil, rho, eta, s, rhs)
+    factor_solve(lp, li, lx, up, ui, ux, ud, rows, cols, triples, refine, shift, wp, wi, wx, blocks, b, scratch,
+                 x_new)
     res, primal, dual = y_z_steps(x_new, x, v, mu, rho, eta, tv)
     err = residual_error(wp, wi, wx, blocks, q, mu, dil, tv[:n], norm_q) if measure else np.nan
     return res, primal, dual, err
@@ -400,7 +407,7 @@ def admm_loop(lp, li, lx, up, ui, ux, ud, rows, cols, triples, refine, wp, wi, w
     hist_err, hist_it = np.empty(2), np.empty(2, np.int64)
     count, change = 0, 0
     work = np.empty(5 * n)
-    x_new, tv = work[2 * n:3 * n], work[3 * n:]
+    _, _, x_new, tv = work_views(work, n)
     while it < max_iter and it - first < errs.size:
         it += 1
         measure = it >= next_check or it >= max_iter or it - first >= errs.size
