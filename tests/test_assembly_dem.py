@@ -185,6 +185,21 @@ def test_max_time_then_resume_gives_the_same_records(sample, tmp_path):
     assert "max_time" in first.message
     rest = _run(sample, Coulomb(0.5), strain=0.004, run_file=path)
     np.testing.assert_array_equal(rest.stress, whole.stress)
+    # the records' contacts are read from the file when indexed, the last one held
+    assert len(rest.contacts) == len(whole.contacts) > 2
+    for k in (0, 1, -1):
+        for key in ("grains", "frame", "force", "slip", "status", "group"):
+            np.testing.assert_array_equal(getattr(rest.contacts[k], key),
+                                          getattr(whole.contacts[k], key))
+        np.testing.assert_array_equal(rest.contacts[k].states[0].elastic,
+                                      whole.contacts[k].states[0].elastic)
+    assert [s.size for s in rest.contacts[:2]] == [s.size for s in whole.contacts[:2]]
+    with pytest.raises(IndexError):
+        rest.contacts[len(whole.contacts)]
+    path.rename(tmp_path / "moved.h5")
+    assert rest.contacts[-1] is rest.contacts[len(rest.contacts) - 1]  # held in memory
+    with pytest.raises(FrictionRulesError, match="run_file = .*run.h5.* record 0"):
+        rest.contacts[0]
 
 
 @pytest.mark.parametrize("kw, match", [

@@ -135,6 +135,34 @@ def test_dem_figures(disks, spheres):
     plt.close(ax.figure)
 
 
+def test_force_network_of_a_slab(spheres):
+    """In 3-D the network of a slab about the cell's middle plane: the force-carrying
+    contacts whose branch midpoints are within half the thickness of it (here the plane xz,
+    so |y_mid - H_yy/2| ≤ slab/2 in the rectangular cell); a bad thickness is an error."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.collections as mc
+    import matplotlib.pyplot as plt
+
+    from frictionrules import FrictionRulesError
+    from frictionrules.plot.assembly import force_network
+    result = spheres[1]
+    snap, x, h = result.contacts[-1], result.positions[-1], result.cells[-1]
+    assert np.allclose(h, np.diag(np.diag(h)))
+    i, j = snap.grains.T
+    wrapped = np.mod(x, np.diag(h))
+    mid = wrapped[i] + 0.5 * (x[j] + snap.shift @ h.T - x[i])
+    thickness = 0.3 * h[1, 1]
+    inside = (snap.force[:, 2] > 0) & (np.abs(mid[:, 1] - 0.5 * h[1, 1]) <= 0.5 * thickness)
+    assert 0 < np.count_nonzero(inside) < np.count_nonzero(snap.force[:, 2] > 0)
+    ax = force_network(result, -1, plane="xz", slab=thickness)
+    (network,) = [c for c in ax.collections if isinstance(c, mc.LineCollection)]
+    assert len(network.get_segments()) == np.count_nonzero(inside)
+    plt.close(ax.figure)
+    with pytest.raises(FrictionRulesError, match="slab = -1.0 violates"):
+        force_network(result, -1, slab=-1.0)
+
+
 # ---- command line ------------------------------------------------------------------------------
 LATTICE = ('[sample]\nlattice = "hex2d"\ncells = [4, 4]\n[model]\nkn = 1e4\nkt = 1e4\n[model.law]\n'
            'type = "Coulomb"\nmu = 0.3\n[loading]\nkind = "biaxial"\npressure = 1.0\n'

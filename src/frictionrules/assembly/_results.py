@@ -146,8 +146,10 @@ class TriaxialResult:
         Degrees, :math:`\sin\varphi = (R - 1)/(R + 1)` at the peak ratio ``R`` (90 for ``inf``).
     coordination : (k,)
         Mean number of closed contacts per grain, ``2 m_closed/n``.
-    contacts : tuple of ContactSnapshot
-        Every contact's force, slip and state per increment.
+    contacts : sequence of ContactSnapshot
+        Every contact's force, slip and state per increment: a tuple, or, for a dynamic run
+        with a ``run_file``, a sequence that reads each record's contacts from the file when
+        indexed and holds the last one (the file must stay as the run left it).
     converged : (k,) bool
         True for an accepted (converged) increment. The run stops at the first increment that
         does not converge even after step cutting; its row repeats the last equilibrium.

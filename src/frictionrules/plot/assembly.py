@@ -14,6 +14,9 @@ __all__ = ["plot_response", "plot_coordination", "force_network", "normal_rose",
            "plot_dem_run", "plot_ensemble"]
 
 
+_PLANES = {"xy": (0, 1), "xz": (0, 2), "yz": (1, 2)}
+
+
 def _axes(ax, polar=False, size=(5.0, 4.0)):
     if ax is None:
         import matplotlib.pyplot as plt
@@ -118,31 +121,60 @@ def _geometry(result, increment: int):
 
 def _segments(snapshot, x, h, plane):
     """End points of the branch vectors of the contacts (grain ``i`` to the image of ``j``),
-    centres wrapped into the cell, projected on ``plane``."""
+    centres wrapped into the cell, projected on ``plane``; and each branch's midpoint's
+    distance from the cell's middle plane parallel to ``plane`` (3-D; zeros in 2-D)."""
     i, j, k = snapshot.grains[:, 0], snapshot.grains[:, 1], snapshot.shift
     wrapped = x - np.floor(np.linalg.solve(h, x.T).T) @ h.T
     start = wrapped[i]
     end = start + (x[j] + k @ h.T - x[i])
-    axes = {"xy": (0, 1), "xz": (0, 2), "yz": (1, 2)}[plane] if x.shape[1] == 3 else (0, 1)
-    return start[:, axes], end[:, axes]
+    axes = _PLANES[plane] if x.shape[1] == 3 else (0, 1)
+    depth = np.zeros(len(i))
+    if x.shape[1] == 3:
+        (c,) = {0, 1, 2} - set(axes)
+        a, b = h[:, axes[0]], h[:, axes[1]]
+        across = abs(np.linalg.det(h)) / np.linalg.norm(np.cross(a, b))  # between the faces
+        frac = np.linalg.solve(h, (0.5 * (start + end)).T)[c]
+        depth = np.abs(frac - 0.5) * across
+    return start[:, axes], end[:, axes], depth
 
 
-def force_network(result, increment: int = -1, ax=None, plane: str = "xz"):
+
+def _slab_of(x, h, slab):
+    """The slab's thickness drawn by :func:`force_network` (None: the whole sample)."""
+    if x.shape[1] != 3:
+        return None
+    if slab is None:
+        slab = 5.0 * (abs(np.linalg.det(h)) / len(x)) ** (1.0 / 3.0)
+    elif not slab > 0:
+        from ..errors import FrictionRulesError
+        raise FrictionRulesError(f"slab = {slab!r} violates: > 0 (a length) or None")
+    return float(slab)
+
+
+def force_network(result, increment: int = -1, ax=None, plane: str = "xz", slab=None):
     """The contact-force network at an increment (a dynamic run: a record): the branch
     vectors of the force-carrying contacts, from grain ``i`` to the image of ``j`` across the
-    periodic boundary, drawn with widths proportional to the normal force ``N`` (a projection
-    on ``plane`` in 3-D); the cell is outlined."""
+    periodic boundary, drawn with widths proportional to the normal force ``N``; the cell is
+    outlined.
+
+    In 3-D it draws the contacts whose branch midpoints lie in a slab of thickness ``slab``
+    (a length) about the cell's middle plane parallel to ``plane``, projected on it: by
+    default five mean grain spacings ``(V/n)^{1/3}`` (about five diameters), so that a large
+    sample's network stays legible; the whole sample when it is thinner than the slab."""
     import matplotlib.collections as mc
     ax = _axes(ax)
     snap = result.contacts[increment]
     x, h = _geometry(result, increment)
-    start, end = _segments(snap, x, h, plane)
+    start, end, depth = _segments(snap, x, h, plane)
+    thickness = _slab_of(x, h, slab)
     N = snap.force[:, 2]
     closed = N > 0
+    if thickness is not None:
+        closed &= depth <= 0.5 * thickness
     width = 3 * N[closed] / N[closed].max() if closed.any() else []
     ax.add_collection(mc.LineCollection(np.stack((start[closed], end[closed]), axis=1),
                                         linewidths=width, colors="k", capstyle="round"))
-    axes = {"xy": (0, 1), "xz": (0, 2), "yz": (1, 2)}[plane] if x.shape[1] == 3 else (0, 1)
+    axes = _PLANES[plane] if x.shape[1] == 3 else (0, 1)
     corners = np.array([[0, 0], [1, 0], [1, 1], [0, 1], [0, 0]], float)
     box = np.zeros((5, x.shape[1]))
     box[:, list(axes)] = corners
@@ -158,7 +190,7 @@ def force_network(result, increment: int = -1, ax=None, plane: str = "xz"):
 
 def _angles(snapshot, plane):
     n = snapshot.frame[:, 2, :]
-    a, b = {"xy": (0, 1), "xz": (0, 2), "yz": (1, 2)}[plane]
+    a, b = _PLANES[plane]
     ang = np.arctan2(n[:, b], n[:, a])
     return np.concatenate((ang, ang + np.pi))  # both directions of each normal
 
@@ -187,7 +219,7 @@ def friction_rose(result, increment: int = -1, ax=None, plane: str = "xz", bins:
     closed = snap.force[:, 2] > 0
     mob = snap.mobilized_friction[closed]
     n = snap.frame[closed, 2, :]
-    a, b = {"xy": (0, 1), "xz": (0, 2), "yz": (1, 2)}[plane]
+    a, b = _PLANES[plane]
     ang = np.arctan2(n[:, b], n[:, a])
     ang = np.mod(np.concatenate((ang, ang + np.pi)), 2 * np.pi)
     mob = np.concatenate((mob, mob))
@@ -214,8 +246,11 @@ def plot_dem_run(result, increment: int = -1, plane: str = "xz"):
     plot_coordination(result, ax=axes[1, 0])
     force_network(result, increment, ax=axes[1, 1], plane=plane)
     k = increment % len(result.contacts)
+    x, h = _geometry(result, increment)
+    thickness = _slab_of(x, h, None)
+    where = "" if thickness is None else f", a slab {thickness:.3g} thick"
     axes[1, 1].set_title(rf"normal forces at $\varepsilon_a$ = {result.axial_strain[k]:.3g} "
-                         f"(width ∝ N)", fontsize=9)
+                         f"(width ∝ N{where})", fontsize=9)
     fig.tight_layout()
     return axes
 

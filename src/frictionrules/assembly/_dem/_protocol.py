@@ -223,8 +223,10 @@ def peak_of(ratio: np.ndarray, axial: np.ndarray, window: float, failure_slope: 
     return failed, (float(smooth.max()) if failed else math.inf), smooth
 
 
-def collect(dyn, kind, records, axial, ended, failure_slope, window, state) -> TriaxialResult:
-    """The :class:`TriaxialResult` of a dynamic run's records."""
+def collect(dyn, kind, records, axial, ended, failure_slope, window, state,
+            contacts=None) -> TriaxialResult:
+    """The :class:`TriaxialResult` of a dynamic run's records (``contacts``: their snapshots
+    when not held by the records, as a run file's :class:`RecordedContacts`)."""
     stress = np.array([r.stress for r in records])
     strain = np.array([r.strain for r in records])
     eig = np.linalg.eigvalsh(stress)
@@ -242,7 +244,7 @@ def collect(dyn, kind, records, axial, ended, failure_slope, window, state) -> T
     contact = field["elastic_energy"] + field["dissipation"]
     cw = np.concatenate(([0.0], np.diff(contact)))
     bw = np.concatenate(([0.0], np.diff(field["boundary_work"])))
-    snaps = tuple(r.contacts for r in records)
+    snaps = tuple(r.contacts for r in records) if contacts is None else contacts
     return TriaxialResult(kind, stress, strain, np.trace(strain, axis1=1, axis2=2), ax, ratio, peak,
                           angle, field["coordination"], snaps, np.ones(len(records), bool), cw, bw,
                           failed, False, ended, sample_state(dyn, state, records[-1]), method="dem",
@@ -317,16 +319,20 @@ def run_test(assembly, kind: str, spec_of, options: dict, progress=None, max_tim
             records.append(record)
             if writer is not None:
                 writer.append(k, records[-1], state, dyn, "shear")
+                # the file holds the previous record's contacts now
+                records[-2] = dataclasses.replace(records[-2], contacts=None)
             if progress is not None:
                 progress(k, total)
         if deadline is not None and time.monotonic() > deadline and len(records) - 1 < total:
             ended = (f"stopped after {len(records) - 1} records: max_time = {max_time!r} s "
                      "reached")
             break
+    contacts = None
     if writer is not None:
+        contacts = writer.contacts(records)
         writer.close(ended)
     return collect(dyn, kind, records, axial, ended, options["failure_slope"],
-                   options["peak_window"], state)
+                   options["peak_window"], state, contacts)
 
 
 def _stopped(dyn, writer, state, stage, kind, options, message):

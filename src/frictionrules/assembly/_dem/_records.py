@@ -14,7 +14,8 @@ r"""What a record of a dynamic run holds, read from the engine's state.
   boundary work, the laws' dissipation, the damping's loss, and the elastic energy of the
   contacts ``Σ ½ (T²/kt + N²/kn)`` and the fluctuating kinetic energy at the record;
 * the contacts (every pair in contact, open ones of the skin included) as a
-  :class:`ContactSnapshot`.
+  :class:`ContactSnapshot` (None in a record already written to a run file, which holds
+  them).
 """
 
 from __future__ import annotations

@@ -17,22 +17,29 @@ Layout (``docs/assembly.md``, "Run files"):
 A record is written after the engine's state of the same moment went into the slot not in use,
 and the root's ``engine`` attribute is switched last: an interruption at any point leaves the
 file at its last complete record with the state that continues it.
+
+A run with a file keeps in memory the contacts of its last record only: the result's
+``contacts`` are a :class:`RecordedContacts` that reads the others from the file when asked
+for (at 10⁵ spheres a record's contacts take about 55 MB).
 """
 
 from __future__ import annotations
 
 import json
+import operator
+from collections.abc import Sequence
 
 import numpy as np
 
 from ...contact import ContactState
+from ...errors import FrictionRulesError
 from ...laws import LawState
 from .._results import ContactSnapshot
 from .._runfile import open_h5
 from ._records import Record
 from ._state import METERS, Cell, DemState, Grains, Pairs, new_meters
 
-__all__ = ["DemRunFile"]
+__all__ = ["DemRunFile", "RecordedContacts"]
 
 _SCALARS = ("time", "steps", "coordination", "coordination_without_rattlers", "sliding_fraction",
             "unbalanced_force", "boundary_work", "dissipation", "damping_loss", "elastic_energy",
@@ -115,7 +122,7 @@ class DemRunFile:
             return None
         g = self.h5[f"engine/{slot}"]
         last = int(g.attrs["record"])
-        records = [self._record(self.h5[f"records/{k:06d}"]) for k in range(last + 1)]
+        records = [_record(self.h5[f"records/{k:06d}"], k == last) for k in range(last + 1)]
         grains = Grains(**{k: np.asarray(v) for k, v in g["grains"].items()})
         cell = Cell(**{k: np.asarray(v) for k, v in g["cell"].items()})
         pairs = Pairs(**{k: np.asarray(v) for k, v in g["pairs"].items()})
@@ -128,19 +135,62 @@ class DemRunFile:
         dyn.restore_groups(np.asarray(g["group_keys"]))
         return str(g.attrs["stage"]), state, records
 
-    def _record(self, g) -> Record:
-        c = g["contacts"]
-        states = []
-        for m in range(len(c["states"])):
-            sg = c[f"states/{m}"]
-            names = tuple(json.loads(sg.attrs["names"]))
-            states.append(ContactState(np.asarray(sg["elastic"]), np.asarray(sg["plastic"]),
-                                       np.asarray(sg["kappa"]), np.asarray(sg["beta"]),
-                                       LawState(names, np.asarray(sg["internal"]))))
-        snap = ContactSnapshot(*(np.asarray(c[key]) for key in _SNAPSHOT[:-1]), tuple(states),
-                               np.asarray(c["group"]))
-        scalars = {key: g.attrs[key] for key in _SCALARS}
-        return Record(float(scalars["time"]), int(scalars["steps"]), np.asarray(g["stress"]),
-                      np.asarray(g["strain"]),
-                      *(float(scalars[key]) for key in _SCALARS[2:]), snap,
-                      np.asarray(g["positions"]), np.asarray(g["cell"]))
+    def contacts(self, records: list) -> "RecordedContacts":
+        """The contacts of ``records`` (all written to this file, the last one held)."""
+        return RecordedContacts(self.h5.filename, len(records), records[-1].contacts)
+
+
+def _snapshot(c) -> ContactSnapshot:
+    states = []
+    for m in range(len(c["states"])):
+        sg = c[f"states/{m}"]
+        names = tuple(json.loads(sg.attrs["names"]))
+        states.append(ContactState(np.asarray(sg["elastic"]), np.asarray(sg["plastic"]),
+                                   np.asarray(sg["kappa"]), np.asarray(sg["beta"]),
+                                   LawState(names, np.asarray(sg["internal"]))))
+    return ContactSnapshot(*(np.asarray(c[key]) for key in _SNAPSHOT[:-1]), tuple(states),
+                           np.asarray(c["group"]))
+
+
+def _record(g, contacts: bool) -> Record:
+    """A record of the file; its contacts read only when ``contacts`` (else None)."""
+    scalars = {key: g.attrs[key] for key in _SCALARS}
+    return Record(float(scalars["time"]), int(scalars["steps"]), np.asarray(g["stress"]),
+                  np.asarray(g["strain"]),
+                  *(float(scalars[key]) for key in _SCALARS[2:]),
+                  _snapshot(g["contacts"]) if contacts else None,
+                  np.asarray(g["positions"]), np.asarray(g["cell"]))
+
+
+class RecordedContacts(Sequence):
+    """The records' :class:`~frictionrules.assembly.ContactSnapshot` of a dynamic run with a
+    run file, read from the file when indexed; the last record's held in memory. A sequence
+    like the tuple of a run without a file (``len``, indexing, slicing, iteration)."""
+
+    def __init__(self, path, count: int, last: ContactSnapshot):
+        self.path, self._count, self._last = str(path), int(count), last
+
+    def __len__(self) -> int:
+        return self._count
+
+    def __getitem__(self, k):
+        if isinstance(k, slice):
+            return tuple(self[i] for i in range(*k.indices(self._count)))
+        k = operator.index(k)
+        if k < 0:
+            k += self._count
+        if not 0 <= k < self._count:
+            raise IndexError(f"record {k} of {self._count}")
+        if k == self._count - 1:
+            return self._last
+        import h5py
+        try:
+            with h5py.File(self.path, "r") as h5:
+                return _snapshot(h5[f"records/{k:06d}/contacts"])
+        except (OSError, KeyError) as error:
+            raise FrictionRulesError(
+                f"run_file = {self.path!r} does not hold the contacts of record {k} ({error}); "
+                "constraint: the run file of this result, unchanged since the run") from None
+
+    def __repr__(self) -> str:
+        return f"RecordedContacts({self.path!r}, {self._count} records)"
