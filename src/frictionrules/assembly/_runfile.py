@@ -25,7 +25,7 @@ from ..laws import LawState
 from ._contacts import ContactSet
 from ._results import SampleState
 
-__all__ = ["RunFile", "open_h5"]
+__all__ = ["RunFile", "open_h5", "write_states", "read_state"]
 
 
 def _sample_key(assembly) -> dict:
@@ -66,6 +66,24 @@ def open_h5(path, assembly, options: dict, group: str):
     return h5
 
 
+def write_states(g, states) -> None:
+    """The contact models' batches of contact states into ``g/states/0, 1, ...``."""
+    for m, s in enumerate(states):
+        sg = g.create_group(f"states/{m}")
+        for key in ("elastic", "plastic", "kappa", "beta"):
+            sg.create_dataset(key, data=np.asarray(getattr(s, key)))
+        sg.create_dataset("internal", data=s.internal.values)
+        sg.attrs["names"] = json.dumps(list(s.internal.names))
+
+
+def read_state(sg) -> ContactState:
+    """A batch of contact states written by :func:`write_states`."""
+    names = tuple(json.loads(sg.attrs["names"]))
+    return ContactState(np.asarray(sg["elastic"]), np.asarray(sg["plastic"]),
+                        np.asarray(sg["kappa"]), np.asarray(sg["beta"]),
+                        LawState(names, np.asarray(sg["internal"])))
+
+
 class RunFile:
     """An open run file (use :meth:`open`)."""
 
@@ -91,12 +109,7 @@ class RunFile:
                            ("force", c.force if c.force is not None else np.zeros((c.size, 3))),
                            ("status", c.status if c.status is not None else np.zeros(c.size, int))):
             g.create_dataset(key, data=np.asarray(value))
-        for m, s in enumerate(c.states):
-            sg = g.create_group(f"states/{m}")
-            for key in ("elastic", "plastic", "kappa", "beta"):
-                sg.create_dataset(key, data=np.asarray(getattr(s, key)))
-            sg.create_dataset("internal", data=s.internal.values)
-            sg.attrs["names"] = json.dumps(list(s.internal.names))
+        write_states(g, c.states)
         g.attrs["converged"] = bool(ok)
         g.attrs["complete"] = True
         self.h5.flush()
@@ -123,11 +136,7 @@ class RunFile:
         group = np.asarray(g["group"])
         states, models = [], []
         for m in range(len(g["states"])):
-            sg = g[f"states/{m}"]
-            names = tuple(json.loads(sg.attrs["names"]))
-            states.append(ContactState(np.asarray(sg["elastic"]), np.asarray(sg["plastic"]),
-                                       np.asarray(sg["kappa"]), np.asarray(sg["beta"]),
-                                       LawState(names, np.asarray(sg["internal"]))))
+            states.append(read_state(g[f"states/{m}"]))
             members = np.flatnonzero(group == m)
             models.append(a.model_of(i[members[0]], j[members[0]]) if len(members) else a.model_of(0, 0))
         contacts = ContactSet(i, j, np.asarray(g["shift"]), group, tuple(models), tuple(states),

@@ -25,17 +25,14 @@ for (at 10⁵ spheres a record's contacts take about 55 MB).
 
 from __future__ import annotations
 
-import json
 import operator
 from collections.abc import Sequence
 
 import numpy as np
 
-from ...contact import ContactState
 from ...errors import FrictionRulesError
-from ...laws import LawState
 from .._results import ContactSnapshot
-from .._runfile import open_h5
+from .._runfile import open_h5, read_state, write_states
 from ._records import Record
 from ._state import METERS, Cell, DemState, Grains, Pairs, new_meters
 
@@ -99,12 +96,7 @@ class DemRunFile:
         snap = record.contacts
         for key in _SNAPSHOT:
             g.create_dataset(f"contacts/{key}", data=getattr(snap, key), compression="gzip")
-        for m, s in enumerate(snap.states):
-            sg = g.create_group(f"contacts/states/{m}")
-            for key in ("elastic", "plastic", "kappa", "beta"):
-                sg.create_dataset(key, data=np.asarray(getattr(s, key)))
-            sg.create_dataset("internal", data=s.internal.values)
-            sg.attrs["names"] = json.dumps(list(s.internal.names))
+        write_states(g.require_group("contacts"), snap.states)
         g.attrs["complete"] = True
         self.h5.flush()
         self.h5.attrs["engine"] = slot
@@ -141,14 +133,8 @@ class DemRunFile:
 
 
 def _snapshot(c) -> ContactSnapshot:
-    states = []
-    for m in range(len(c["states"])):
-        sg = c[f"states/{m}"]
-        names = tuple(json.loads(sg.attrs["names"]))
-        states.append(ContactState(np.asarray(sg["elastic"]), np.asarray(sg["plastic"]),
-                                   np.asarray(sg["kappa"]), np.asarray(sg["beta"]),
-                                   LawState(names, np.asarray(sg["internal"]))))
-    return ContactSnapshot(*(np.asarray(c[key]) for key in _SNAPSHOT[:-1]), tuple(states),
+    states = tuple(read_state(c[f"states/{m}"]) for m in range(len(c["states"])))
+    return ContactSnapshot(*(np.asarray(c[key]) for key in _SNAPSHOT[:-1]), states,
                            np.asarray(c["group"]))
 
 
