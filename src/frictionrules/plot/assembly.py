@@ -138,7 +138,6 @@ def _segments(snapshot, x, h, plane):
     return start[:, axes], end[:, axes], depth
 
 
-
 def _slab_of(x, h, slab):
     """The slab's thickness drawn by :func:`force_network` (None: the whole sample)."""
     if x.shape[1] != 3:
@@ -244,10 +243,10 @@ def plot_dem_run(result, increment: int = -1, plane: str = "xz"):
     fig, axes = plt.subplots(2, 2, figsize=(9.5, 7.5))
     plot_response(result, axes=axes[0])
     plot_coordination(result, ax=axes[1, 0])
-    force_network(result, increment, ax=axes[1, 1], plane=plane)
-    k = increment % len(result.contacts)
     x, h = _geometry(result, increment)
-    thickness = _slab_of(x, h, None)
+    thickness = _slab_of(x, h, None)  # the default slab, drawn and named in the title
+    force_network(result, increment, ax=axes[1, 1], plane=plane, slab=thickness)
+    k = increment % len(result.contacts)
     where = "" if thickness is None else f", a slab {thickness:.3g} thick"
     axes[1, 1].set_title(rf"normal forces at $\varepsilon_a$ = {result.axial_strain[k]:.3g} "
                          f"(width ∝ N{where})", fontsize=9)
